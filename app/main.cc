@@ -1,0 +1,52 @@
+// softface: predict the soft tissue after maxillofacial surgery with several
+// models side by side. Usage: softface scene.prm | --print-parameters | --help
+
+#include <deal.II/base/mpi.h>
+
+#include <softface/error.h>
+#include <softface/models/interface.h>
+#include <softface/simulator.h>
+
+#include <iostream>
+#include <string>
+
+int
+main(int argc, char **argv)
+{
+  // Trilinos (the AMG solver) needs MPI initialised; softface runs serially.
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+
+  const std::string usage =
+    "usage: softface SCENE.prm        run a scene\n"
+    "       softface --print-parameters   print every parameter with its "
+    "default and documentation\n"
+    "       softface --help\n";
+  try
+    {
+      if (argc != 2)
+        {
+          std::cerr << usage;
+          return 2;
+        }
+      const std::string argument = argv[1];
+      if (argument == "--help" || argument == "-h")
+        {
+          std::cout << usage << "\nmodels:\n"
+                    << softface::Models::describe_registered();
+          return 0;
+        }
+      if (argument == "--print-parameters")
+        {
+          softface::Simulator::print_default_parameters(std::cout);
+          return 0;
+        }
+      return softface::Simulator::run(argument);
+    }
+  catch (const std::exception &e)
+    {
+      std::cout.flush();
+      std::cerr << "softface: error: " << softface::error_message(e)
+                << std::endl;
+      return 1;
+    }
+}

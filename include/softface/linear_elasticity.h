@@ -1,0 +1,49 @@
+#ifndef softface_linear_elasticity_h
+#define softface_linear_elasticity_h
+
+#include <deal.II/base/point.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <softface/scene.h>
+
+#include <array>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Linear elasticity on P1 tetrahedra (seed 2.1 and eqs. 6-10). On a P1
+   * tetrahedron the shape gradients are constant, so the element stiffness
+   * has a closed form; it is the same matrix that FEValues with a one-point
+   * QGaussSimplex would integrate (a test checks that), at a fraction of the
+   * cost. The mass tensor model reads the same 3x3 blocks.
+   */
+  namespace LinearElasticity
+  {
+    /// K[a][b]: the 3x3 block coupling vertex a's force to vertex b's
+    /// displacement (Cotin's K_ab^T, seed eq. 8).
+    using TetrahedronStiffness = std::array<std::array<Tensor<2, 3>, 4>, 4>;
+
+    TetrahedronStiffness
+    tetrahedron_stiffness(const std::array<Point<3>, 4> &vertices,
+                          const double                   lambda,
+                          const double                   mu);
+
+    /// The vertices of a cell in deal.II's order.
+    std::array<Point<3>, 4>
+    cell_vertices(const Triangulation<3>::active_cell_iterator &cell);
+
+    /// Sparsity of the scene's DoF layout (all vertex couplings).
+    void
+    make_sparsity_pattern(const Scene &scene, SparsityPattern &sparsity);
+
+    /// The unconstrained global stiffness matrix (sparsity already set).
+    void
+    assemble_stiffness(const Scene &scene, SparseMatrix<double> &stiffness);
+  } // namespace LinearElasticity
+} // namespace softface
+
+#endif

@@ -1,0 +1,74 @@
+#ifndef softface_mesh_h
+#define softface_mesh_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <string>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Where the tetrahedral meshes come from: the generated cube of the seed's
+   * benchmark (section 2.3.6, Fig. 2) or a file. Every mesh passes
+   * Mesh::check_cells() before anything is computed on it.
+   */
+  namespace Mesh
+  {
+    /// Material and boundary ids the generated cube carries.
+    constexpr types::material_id cube_tissue_id  = 1;
+    constexpr types::material_id cube_inner_id   = 2;
+    constexpr types::boundary_id cube_outer_face = 1;
+
+    /**
+     * The cube [0, L]^3 with a centred inner cube of edge s (the region that
+     * the seed moves 6 mm upwards). The mesh is a tensor grid whose lines
+     * include the inner cube's faces, each hexahedron split into six
+     * tetrahedra along its main diagonal (Kuhn), so the tetrahedra conform to
+     * the inner region and to each other. Cells inside the inner cube get
+     * material id 2, the others 1; all outer faces get boundary id 1.
+     */
+    struct CubeParameters
+    {
+      static void
+      declare_parameters(ParameterHandler &prm);
+      void
+      parse_parameters(ParameterHandler &prm);
+
+      double       edge_length               = 80.;
+      double       inner_size                = 10.;
+      unsigned int target_n_tetrahedra       = 30000;
+    };
+
+    void
+    generate_cube(const CubeParameters &parameters,
+                  Triangulation<3> &    triangulation);
+
+    /**
+     * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
+     * become material ids, physical surfaces boundary ids), legacy VTK .vtk
+     * (CELL_DATA "MaterialID"), or a .vtu written by deal.II with its
+     * triangulation serialised. Errors name the file.
+     */
+    void
+    read_file(const std::string &filename, Triangulation<3> &triangulation);
+
+    /**
+     * Throw a clear error unless every cell is a positively oriented,
+     * non-degenerate tetrahedron. @p source names the mesh in the message.
+     */
+    void
+    check_cells(const Triangulation<3> &triangulation,
+                const std::string &     source);
+
+    /// Signed volume of the tetrahedron (positive for deal.II's orientation).
+    double
+    signed_volume(const std::array<Point<3>, 4> &x);
+  } // namespace Mesh
+} // namespace softface
+
+#endif

@@ -1,0 +1,117 @@
+#ifndef softface_scene_h
+#define softface_scene_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/tria.h>
+
+#include <softface/material.h>
+#include <softface/mesh.h>
+
+#include <array>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * A bone segment (seed 3.3): the mesh vertices that touch it are its join
+   * points. They are the vertices of cells with one of the material ids and
+   * the vertices of boundary faces with one of the boundary ids.
+   */
+  struct BoneSegment
+  {
+    std::string                  name;
+    std::set<types::material_id> material_ids;
+    std::set<types::boundary_id> boundary_ids;
+  };
+
+  /**
+   * What every model works on: the tetrahedral mesh, the one DoF layout
+   * (FESystem(FE_SimplexP<3>(1), 3): three DoFs per vertex), the tissue, and
+   * which vertex is a join point of which bone segment. Vertices that touch no
+   * segment are free; their displacement is what a model computes.
+   *
+   * Build it from a parameter file (declare_parameters, parse_parameters) or
+   * in code (fill triangulation and segments, then call setup()).
+   */
+  class Scene
+  {
+  public:
+    Scene();
+
+    /**
+     * The Scene and Material sections. One subsection "Segment <name>" is
+     * declared for each name in @p segment_names.
+     */
+    static void
+    declare_parameters(ParameterHandler &              prm,
+                       const std::vector<std::string> &segment_names);
+
+    /// The names listed in "Scene/Bone segments" of a parsed handler.
+    static std::vector<std::string>
+    segment_names(ParameterHandler &prm);
+
+    /**
+     * Read the parameters, create or read the mesh (a relative mesh file
+     * name is taken relative to @p input_directory) and call setup().
+     */
+    void
+    parse_parameters(ParameterHandler &prm, const std::string &input_directory);
+
+    /**
+     * Check the cells, distribute the DoFs, find the join points of every
+     * segment and check that every free vertex is connected to one.
+     */
+    void
+    setup();
+
+    /// Index of the segment called @p name; throws a clear error if unknown.
+    unsigned int
+    segment_index(const std::string &name) const;
+
+    unsigned int
+    n_vertices() const;
+    unsigned int
+    n_free_dofs() const;
+    unsigned int
+    n_join_vertices(const unsigned int segment) const;
+
+    /// The three DoFs of every used vertex (triangulation vertex numbering).
+    const std::vector<std::array<types::global_dof_index, 3>> &
+    vertex_dofs() const;
+    /// Segment of every vertex, or numbers::invalid_unsigned_int if free.
+    const std::vector<unsigned int> &
+    vertex_segment() const;
+    /// True for the DoFs of join points.
+    const std::vector<bool> &
+    join_dofs() const;
+
+    Triangulation<3>         triangulation;
+    const FESystem<3>        fe;
+    const MappingFE<3>       mapping;
+    DoFHandler<3>            dof_handler;
+    Material                 material;
+    std::vector<BoneSegment> segments;
+    /// Names the mesh in messages (file name or "generated cube").
+    std::string mesh_description;
+
+  private:
+    void
+    find_join_points();
+    void
+    check_free_region_connectivity() const;
+
+    std::vector<std::array<types::global_dof_index, 3>> vertex_dof_indices;
+    std::vector<unsigned int>                           segment_of_vertex;
+    std::vector<bool>                                   is_join_dof;
+    std::vector<unsigned int>                           n_joins_of_segment;
+  };
+} // namespace softface
+
+#endif

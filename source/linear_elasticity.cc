@@ -1,0 +1,93 @@
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/full_matrix.h>
+
+#include <softface/linear_elasticity.h>
+
+namespace softface
+{
+  namespace LinearElasticity
+  {
+    TetrahedronStiffness
+    tetrahedron_stiffness(const std::array<Point<3>, 4> &x,
+                          const double                   lambda,
+                          const double                   mu)
+    {
+      // The columns of J are the edges from vertex 0; the rows of J^-1 are
+      // the (constant) gradients of the barycentric shape functions 1..3.
+      Tensor<2, 3> J;
+      for (unsigned int k = 0; k < 3; ++k)
+        for (unsigned int d = 0; d < 3; ++d)
+          J[d][k] = x[k + 1][d] - x[0][d];
+      const double       volume = determinant(J) / 6.;
+      const Tensor<2, 3> J_inverse = invert(J);
+
+      std::array<Tensor<1, 3>, 4> grad;
+      for (unsigned int a = 1; a < 4; ++a)
+        grad[a] = J_inverse[a - 1];
+      grad[0] = -(grad[1] + grad[2] + grad[3]);
+
+      // Second derivative of the elastic energy
+      //   V (lambda/2 (div u)^2 + mu eps:eps)
+      // with respect to u_a[i] and u_b[j].
+      TetrahedronStiffness K;
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int b = 0; b < 4; ++b)
+          {
+            const double shear = mu * (grad[a] * grad[b]);
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int j = 0; j < 3; ++j)
+                K[a][b][i][j] =
+                  volume * (lambda * grad[a][i] * grad[b][j] +
+                            mu * grad[a][j] * grad[b][i] +
+                            (i == j ? shear : 0.));
+          }
+      return K;
+    }
+
+    std::array<Point<3>, 4>
+    cell_vertices(const Triangulation<3>::active_cell_iterator &cell)
+    {
+      return {{cell->vertex(0), cell->vertex(1), cell->vertex(2),
+               cell->vertex(3)}};
+    }
+
+    void
+    make_sparsity_pattern(const Scene &scene, SparsityPattern &sparsity)
+    {
+      DynamicSparsityPattern dsp(scene.dof_handler.n_dofs());
+      DoFTools::make_sparsity_pattern(scene.dof_handler, dsp);
+      sparsity.copy_from(dsp);
+    }
+
+    void
+    assemble_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
+    {
+      const double lambda = scene.material.lambda();
+      const double mu     = scene.material.mu();
+
+      FullMatrix<double>                   local(12, 12);
+      std::vector<types::global_dof_index> local_dofs(12);
+      stiffness = 0;
+      for (const auto &cell : scene.triangulation.active_cell_iterators())
+        {
+          const TetrahedronStiffness K =
+            tetrahedron_stiffness(cell_vertices(cell), lambda, mu);
+          for (unsigned int a = 0; a < 4; ++a)
+            {
+              const auto &dofs = scene.vertex_dofs()[cell->vertex_index(a)];
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  local_dofs[3 * a + i] = dofs[i];
+                  for (unsigned int b = 0; b < 4; ++b)
+                    for (unsigned int j = 0; j < 3; ++j)
+                      local(3 * a + i, 3 * b + j) = K[a][b][i][j];
+                }
+            }
+          stiffness.add(local_dofs, local);
+        }
+    }
+  } // namespace LinearElasticity
+} // namespace softface

@@ -1,0 +1,252 @@
+#include <deal.II/grid/grid_in.h>
+#include <deal.II/grid/reference_cell.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <softface/error.h>
+#include <softface/mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace softface
+{
+  namespace Mesh
+  {
+    void
+    CubeParameters::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Cube");
+      prm.declare_entry("Edge length",
+                        "80",
+                        Patterns::Double(0.),
+                        "Edge length of the cube [0, L]^3 in mm.");
+      prm.declare_entry("Inner region size",
+                        "10",
+                        Patterns::Double(0.),
+                        "Edge length in mm of the centred inner cube (material "
+                        "id 2) that a planning moves; the rest is tissue "
+                        "(material id 1) and the outer faces have boundary "
+                        "id 1.");
+      prm.declare_entry("Target number of tetrahedra",
+                        "30000",
+                        Patterns::Integer(6, 50000000),
+                        "About how many tetrahedra to generate (the grid "
+                        "spacing is chosen so that 6 tetrahedra per grid "
+                        "box come close; typical range 10k to 2M).");
+      prm.leave_subsection();
+    }
+
+    void
+    CubeParameters::parse_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Cube");
+      edge_length         = prm.get_double("Edge length");
+      inner_size          = prm.get_double("Inner region size");
+      target_n_tetrahedra = prm.get_integer("Target number of tetrahedra");
+      prm.leave_subsection();
+      if (!(edge_length > 0.) || !(inner_size > 0.) ||
+          !(inner_size < edge_length))
+        throw Error("Scene/Cube: the inner region size (" +
+                    std::to_string(inner_size) +
+                    " mm) must be positive and smaller than the edge length (" +
+                    std::to_string(edge_length) + " mm).");
+    }
+
+    double
+    signed_volume(const std::array<Point<3>, 4> &x)
+    {
+      return cross_product_3d(x[1] - x[0], x[2] - x[0]) * (x[3] - x[0]) / 6.;
+    }
+
+    void
+    generate_cube(const CubeParameters &parameters,
+                  Triangulation<3> &    triangulation)
+    {
+      const double L = parameters.edge_length, s = parameters.inner_size;
+      const double a = (L - s) / 2., b = a + s;
+
+      // Grid lines that include the inner cube's faces, spaced about h in
+      // each of the three intervals. The spacing is chosen so that the six
+      // tetrahedra per grid box come closest to the target count.
+      const auto grid_lines = [&](const double h) {
+        std::vector<double> lines{0.};
+        for (const auto &[from, to] : {std::make_pair(0., a),
+                                       std::make_pair(a, b),
+                                       std::make_pair(b, L)})
+          {
+            const unsigned int n =
+              std::max<long>(1, std::lround((to - from) / h));
+            for (unsigned int i = 1; i <= n; ++i)
+              lines.push_back(i == n ? to : from + (to - from) * i / n);
+          }
+        return lines;
+      };
+      const double h0 =
+        std::cbrt(6. * L * L * L / parameters.target_n_tetrahedra);
+      std::vector<double> lines = grid_lines(h0);
+      for (double f = 0.8; f < 1.25; f += 0.005)
+        {
+          const auto   candidate = grid_lines(h0 * f);
+          const auto   n_tets    = [](const std::vector<double> &l) {
+            return 6. * std::pow(l.size() - 1., 3);
+          };
+          if (std::abs(n_tets(candidate) - parameters.target_n_tetrahedra) <
+              std::abs(n_tets(lines) - parameters.target_n_tetrahedra))
+            lines = candidate;
+        }
+      const unsigned int n_lines = lines.size(), n_boxes = n_lines - 1;
+
+      std::vector<Point<3>> vertices;
+      vertices.reserve(n_lines * n_lines * n_lines);
+      for (unsigned int k = 0; k < n_lines; ++k)
+        for (unsigned int j = 0; j < n_lines; ++j)
+          for (unsigned int i = 0; i < n_lines; ++i)
+            vertices.emplace_back(lines[i], lines[j], lines[k]);
+      const auto index = [n_lines](unsigned int i,
+                                   unsigned int j,
+                                   unsigned int k) {
+        return i + n_lines * (j + n_lines * k);
+      };
+
+      // Kuhn split: the six tetrahedra of a box share its main diagonal and
+      // follow the six paths along the box edges from its lowest to its
+      // highest corner. Every face diagonal then runs from the face's lowest
+      // to its highest corner in both neighbouring boxes: conforming.
+      static const unsigned int paths[6][3] = {
+        {0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+      std::vector<CellData<3>> cells;
+      cells.reserve(6 * n_boxes * n_boxes * n_boxes);
+      for (unsigned int k = 0; k < n_boxes; ++k)
+        for (unsigned int j = 0; j < n_boxes; ++j)
+          for (unsigned int i = 0; i < n_boxes; ++i)
+            {
+              const Point<3> centre((lines[i] + lines[i + 1]) / 2.,
+                                    (lines[j] + lines[j + 1]) / 2.,
+                                    (lines[k] + lines[k + 1]) / 2.);
+              const bool     inner = (centre[0] > a && centre[0] < b &&
+                                  centre[1] > a && centre[1] < b &&
+                                  centre[2] > a && centre[2] < b);
+              for (const auto &path : paths)
+                {
+                  unsigned int corner[3] = {i, j, k};
+                  CellData<3>  cell(4);
+                  cell.vertices[0] = index(i, j, k);
+                  for (unsigned int step = 0; step < 3; ++step)
+                    {
+                      ++corner[path[step]];
+                      cell.vertices[step + 1] =
+                        index(corner[0], corner[1], corner[2]);
+                    }
+                  const std::array<Point<3>, 4> x = {
+                    {vertices[cell.vertices[0]],
+                     vertices[cell.vertices[1]],
+                     vertices[cell.vertices[2]],
+                     vertices[cell.vertices[3]]}};
+                  if (signed_volume(x) < 0)
+                    std::swap(cell.vertices[1], cell.vertices[2]);
+                  cell.material_id = inner ? cube_inner_id : cube_tissue_id;
+                  cells.push_back(cell);
+                }
+            }
+
+      triangulation.clear();
+      triangulation.create_triangulation(vertices, cells, SubCellData());
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            face->set_boundary_id(cube_outer_face);
+    }
+
+    void
+    read_file(const std::string &filename, Triangulation<3> &triangulation)
+    {
+      std::ifstream in(filename);
+      if (!in)
+        throw Error("Cannot open mesh file '" + filename +
+                    "' (Scene/Mesh file is relative to the parameter "
+                    "file's folder).");
+
+      const auto dot = filename.rfind('.');
+      const std::string extension =
+        (dot == std::string::npos) ? "" : filename.substr(dot + 1);
+
+      triangulation.clear();
+      GridIn<3> grid_in(triangulation);
+      try
+        {
+          if (extension == "msh")
+            grid_in.read_msh(in);
+          else if (extension == "vtk")
+            grid_in.read_vtk(in);
+          else if (extension == "vtu")
+            grid_in.read_vtu(in);
+          else
+            throw Error("Mesh file '" + filename +
+                        "': unknown format '." + extension +
+                        "' (softface reads .msh, .vtk and deal.II's .vtu).");
+        }
+      catch (const Error &)
+        {
+          throw;
+        }
+      catch (const std::exception &e)
+        {
+          throw Error("Cannot read mesh file '" + filename +
+                      "': " + error_message(e));
+        }
+      if (triangulation.n_active_cells() == 0)
+        throw Error("Mesh file '" + filename + "' holds no cells.");
+    }
+
+    void
+    check_cells(const Triangulation<3> &triangulation,
+                const std::string &     source)
+    {
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          const auto describe = [&]() {
+            std::ostringstream s;
+            s << "Mesh " << source << ": cell " << cell->active_cell_index()
+              << " (vertices";
+            for (const unsigned int v : cell->vertex_indices())
+              s << (v ? ", " : " ") << '(' << cell->vertex(v) << ')';
+            s << ")";
+            return s.str();
+          };
+          if (cell->reference_cell() != ReferenceCells::Tetrahedron)
+            throw Error(describe() +
+                        " is not a tetrahedron; softface needs a mesh of "
+                        "tetrahedra only.");
+
+          std::array<Point<3>, 4> x;
+          double                  longest_edge = 0.;
+          for (unsigned int v = 0; v < 4; ++v)
+            {
+              x[v] = cell->vertex(v);
+              for (unsigned int w = 0; w < v; ++w)
+                longest_edge = std::max(longest_edge, x[v].distance(x[w]));
+            }
+          const double volume = signed_volume(x);
+          // A volume this small against the cube of the longest edge is a
+          // flat tetrahedron whose stiffness would be singular.
+          if (std::abs(volume) <= 1e-10 * std::pow(longest_edge, 3))
+            {
+              std::ostringstream s;
+              s << describe() << " is degenerate (volume " << volume
+                << " mm^3).";
+              throw Error(s.str());
+            }
+          if (volume < 0)
+            {
+              std::ostringstream s;
+              s << describe() << " is inverted (signed volume " << volume
+                << " mm^3); tetrahedra must be positively oriented.";
+              throw Error(s.str());
+            }
+        }
+    }
+  } // namespace Mesh
+} // namespace softface

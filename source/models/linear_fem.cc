@@ -1,0 +1,277 @@
+#include <deal.II/base/timer.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+
+#include <softface/error.h>
+#include <softface/linear_elasticity.h>
+#include <softface/models/linear_fem.h>
+
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
+
+namespace softface
+{
+  namespace Models
+  {
+    void
+    LinearFEM::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry(
+        "Solver",
+        "cg amg",
+        Patterns::Selection("gmres jacobi|cg amg|direct"),
+        "Linear solver: 'gmres jacobi' (the seed's), 'cg amg' (CG with "
+        "Trilinos ML algebraic multigrid and the six rigid-body modes), "
+        "'direct' (sparse Cholesky by CHOLMOD; factorised once per scene, "
+        "reused by every planning).");
+      prm.declare_entry("Relative tolerance",
+                        "1e-10",
+                        Patterns::Double(0., 1.),
+                        "Iterative solvers stop when the residual norm falls "
+                        "below this fraction of the right-hand side's norm.");
+      prm.declare_entry("Maximum iterations",
+                        "20000",
+                        Patterns::Integer(1),
+                        "An iterative solve that needs more iterations stops "
+                        "with an error stating the residual reached.");
+      prm.declare_entry("GMRES restart",
+                        "50",
+                        Patterns::Integer(1),
+                        "Krylov vectors kept before GMRES restarts.");
+      prm.declare_entry("AMG aggregation threshold",
+                        "0.02",
+                        Patterns::Double(0., 1.),
+                        "ML's aggregation threshold: matrix entries smaller "
+                        "than this (relative) are dropped when aggregating.");
+    }
+
+    void
+    LinearFEM::parse_parameters(ParameterHandler &prm)
+    {
+      solver_name           = prm.get("Solver");
+      relative_tolerance    = prm.get_double("Relative tolerance");
+      max_iterations        = prm.get_integer("Maximum iterations");
+      gmres_restart         = prm.get_integer("GMRES restart");
+      aggregation_threshold = prm.get_double("AMG aggregation threshold");
+    }
+
+    void
+    LinearFEM::set_solver(const std::string &name, const double tolerance)
+    {
+      AssertThrow(name == "gmres jacobi" || name == "cg amg" ||
+                    name == "direct",
+                  ExcMessage("Unknown linear solver '" + name + "'."));
+      solver_name        = name;
+      relative_tolerance = tolerance;
+    }
+
+    void
+    LinearFEM::setup(const Scene &scene_in)
+    {
+      scene = &scene_in;
+      stats = Statistics();
+      Timer total, phase;
+
+      LinearElasticity::make_sparsity_pattern(*scene, sparsity);
+      stiffness.reinit(sparsity);
+      LinearElasticity::assemble_stiffness(*scene, stiffness);
+      stats.phases.emplace_back("assemble", phase.wall_time());
+
+      // Eliminate the join DoFs symmetrically: their rows and columns are
+      // zeroed and the diagonal kept, so the matrix stays SPD and does not
+      // depend on where the join points move to. The coupling K_fj that the
+      // elimination removes stays available in 'stiffness' for the
+      // right-hand side.
+      phase.restart();
+      const std::vector<bool> &is_join = scene->join_dofs();
+      constrained_stiffness.reinit(sparsity);
+      constrained_stiffness.copy_from(stiffness);
+      for (unsigned int row = 0; row < constrained_stiffness.m(); ++row)
+        for (auto entry = constrained_stiffness.begin(row);
+             entry != constrained_stiffness.end(row);
+             ++entry)
+          if ((is_join[row] || is_join[entry->column()]) &&
+              entry->column() != row)
+            entry->value() = 0.;
+      stats.phases.emplace_back("eliminate join DoFs", phase.wall_time());
+
+      phase.restart();
+      if (solver_name == "gmres jacobi")
+        jacobi.initialize(constrained_stiffness);
+      else if (solver_name == "cg amg")
+        setup_amg();
+      else
+        {
+          direct.factorize(constrained_stiffness);
+          ++factorizations;
+        }
+      stats.phases.emplace_back(solver_name == "direct" ? "factorise" :
+                                                          "preconditioner",
+                                phase.wall_time());
+      stats.setup_time = total.wall_time();
+    }
+
+    void
+    LinearFEM::setup_amg()
+    {
+      trilinos_matrix.reinit(constrained_stiffness);
+
+      TrilinosWrappers::PreconditionAMG::AdditionalData data;
+      data.elliptic              = true;
+      data.higher_order_elements = false;
+      data.smoother_sweeps       = 2;
+      data.aggregation_threshold = aggregation_threshold;
+      data.constant_modes = std::vector<std::vector<bool>>(
+        3, std::vector<bool>(scene->dof_handler.n_dofs(), false));
+      for (const auto &dofs : scene->vertex_dofs())
+        if (dofs[0] != numbers::invalid_dof_index)
+          for (unsigned int c = 0; c < 3; ++c)
+            data.constant_modes[c][dofs[c]] = true;
+
+      Teuchos::ParameterList              parameters;
+      std::unique_ptr<Epetra_MultiVector> translations;
+      data.set_parameters(parameters, translations, trilinos_matrix);
+
+      // deal.II 9.4 hands ML only the three translations; elasticity needs
+      // the three rotations too, or the iteration count grows with the mesh.
+      // Rotations are taken about the centroid to keep the modes balanced.
+      Epetra_MultiVector modes(trilinos_matrix.trilinos_matrix().DomainMap(),
+                               6);
+      Point<3>     centroid;
+      unsigned int n = 0;
+      for (unsigned int v = 0; v < scene->vertex_dofs().size(); ++v)
+        if (scene->vertex_dofs()[v][0] != numbers::invalid_dof_index)
+          {
+            centroid += scene->triangulation.get_vertices()[v];
+            ++n;
+          }
+      centroid /= n;
+      for (unsigned int v = 0; v < scene->vertex_dofs().size(); ++v)
+        {
+          const auto &dofs = scene->vertex_dofs()[v];
+          if (dofs[0] == numbers::invalid_dof_index)
+            continue;
+          const Tensor<1, 3> x = scene->triangulation.get_vertices()[v] - centroid;
+          for (unsigned int c = 0; c < 3; ++c)
+            modes[c][dofs[c]] = 1.;
+          // rotation about e_k: e_k x x
+          modes[3][dofs[1]] = -x[2];
+          modes[3][dofs[2]] = x[1];
+          modes[4][dofs[0]] = x[2];
+          modes[4][dofs[2]] = -x[0];
+          modes[5][dofs[0]] = -x[1];
+          modes[5][dofs[1]] = x[0];
+        }
+      parameters.set("null space: type", "pre-computed");
+      parameters.set("null space: dimension", modes.NumVectors());
+      parameters.set("null space: vectors", modes.Values());
+
+      amg.initialize(trilinos_matrix, parameters);
+    }
+
+    void
+    LinearFEM::solve(const Vector<double> &prescribed,
+                     Vector<double> &      displacement)
+    {
+      Assert(scene != nullptr, ExcMessage("LinearFEM::setup() first."));
+      Timer                    timer;
+      const std::vector<bool> &is_join = scene->join_dofs();
+      const unsigned int       n       = is_join.size();
+
+      // The join values alone, then the right-hand side -K_fj u_j on the
+      // free rows and K_jj u_j on the (diagonal) join rows.
+      Vector<double> join_values(n);
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          join_values[i] = prescribed[i];
+      Vector<double> rhs(n);
+      stiffness.vmult(rhs, join_values);
+      rhs *= -1.;
+      if (nodal_forces.size() == n)
+        rhs += nodal_forces;
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          rhs[i] = constrained_stiffness.diag_element(i) * join_values[i];
+
+      displacement = join_values;
+      stats.iterations = 1;
+      if (solver_name == "direct")
+        direct.solve(rhs, displacement);
+      else
+        {
+          SolverControl control(max_iterations,
+                                relative_tolerance * rhs.l2_norm(),
+                                false,
+                                false);
+          try
+            {
+              if (solver_name == "cg amg")
+                {
+                  SolverCG<Vector<double>> cg(control);
+                  cg.solve(constrained_stiffness, displacement, rhs, amg);
+                }
+              else
+                {
+                  SolverGMRES<Vector<double>> gmres(
+                    control,
+                    SolverGMRES<Vector<double>>::AdditionalData(gmres_restart +
+                                                                2));
+                  gmres.solve(constrained_stiffness, displacement, rhs, jacobi);
+                }
+            }
+          catch (const SolverControl::NoConvergence &e)
+            {
+              throw Error("linear fem (" + solver_name + "): no convergence "
+                          "in " + std::to_string(e.last_step) +
+                          " iterations; relative residual reached " +
+                          std::to_string(e.last_residual / rhs.l2_norm()) +
+                          " (tolerance " + std::to_string(relative_tolerance) +
+                          "). Raise 'Maximum iterations' or pick another "
+                          "solver.");
+            }
+          stats.iterations = control.last_step();
+        }
+
+      // Put the join values back exactly (an iterative solve leaves them
+      // correct only to its tolerance).
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          displacement[i] = join_values[i];
+
+      Vector<double> residual(n);
+      constrained_stiffness.vmult(residual, displacement);
+      residual -= rhs;
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          residual[i] = 0.;
+      stats.residual   = residual.l2_norm() / std::max(rhs.l2_norm(), 1e-300);
+      stats.solve_time = timer.wall_time();
+    }
+
+    void
+    LinearFEM::set_nodal_forces(const Vector<double> &forces)
+    {
+      nodal_forces = forces;
+    }
+
+    const SparseMatrix<double> &
+    LinearFEM::stiffness_matrix() const
+    {
+      return stiffness;
+    }
+
+    unsigned int
+    LinearFEM::n_factorizations() const
+    {
+      return factorizations;
+    }
+
+    SOFTFACE_REGISTER_MODEL(LinearFEM,
+                            "linear fem",
+                            "Linear elasticity on P1 tetrahedra (seed 2.1), "
+                            "solved by GMRES/Jacobi, CG/AMG or a reused "
+                            "direct factorisation.")
+  } // namespace Models
+} // namespace softface
+

@@ -1,0 +1,162 @@
+#include <deal.II/base/utilities.h>
+
+#include <softface/error.h>
+#include <softface/planning.h>
+
+namespace softface
+{
+  namespace
+  {
+    Tensor<1, 3>
+    parse_vector(const std::string &text)
+    {
+      const auto   entries = Utilities::split_string_list(text);
+      Tensor<1, 3> v;
+      for (unsigned int d = 0; d < 3; ++d)
+        v[d] = Utilities::string_to_double(entries[d]);
+      return v;
+    }
+  } // namespace
+
+  void
+  Planning::declare_parameters(ParameterHandler &              prm,
+                               const std::vector<std::string> &moved_segments)
+  {
+    const auto vector3 = Patterns::List(Patterns::Double(), 3, 3);
+    prm.enter_subsection("Planning");
+    prm.declare_entry("Moved segments",
+                      "bone",
+                      Patterns::List(Patterns::Anything()),
+                      "Bone segments that the surgeon moves, each with a "
+                      "subsection 'Motion <name>'. Segments not listed stay "
+                      "where they are (their join points do not move).");
+    for (const std::string &name : moved_segments)
+      {
+        prm.enter_subsection("Motion " + name);
+        prm.declare_entry("Translation",
+                          name == "bone" ? "0, 0, 6" : "0, 0, 0",
+                          vector3,
+                          "Translation t in mm, applied after the rotation: "
+                          "x -> R (x - c) + c + t.");
+        prm.declare_entry("Rotation axis",
+                          "0, 0, 1",
+                          vector3,
+                          "Axis of the rotation R (any length but zero).");
+        prm.declare_entry("Rotation angle",
+                          "0",
+                          Patterns::Double(-360., 360.),
+                          "Angle of the rotation R in degrees "
+                          "(right-handed about the axis).");
+        prm.declare_entry("Rotation centre",
+                          "",
+                          Patterns::Anything(),
+                          "Centre c of the rotation in mm as 'x, y, z'; empty "
+                          "means the centroid of the segment's join points.");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+  }
+
+  std::vector<std::string>
+  Planning::moved_segment_names(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Planning");
+    const auto names = Utilities::split_string_list(prm.get("Moved segments"));
+    prm.leave_subsection();
+    return names;
+  }
+
+  void
+  Planning::parse_parameters(ParameterHandler &prm, const Scene &scene)
+  {
+    motion_of_segment.clear();
+    prm.enter_subsection("Planning");
+    for (const std::string &name :
+         Utilities::split_string_list(prm.get("Moved segments")))
+      {
+        unsigned int segment;
+        try
+          {
+            segment = scene.segment_index(name);
+          }
+        catch (const Error &e)
+          {
+            throw Error("Planning: 'Moved segments' names a segment the "
+                        "scene does not have. " +
+                        std::string(e.what()));
+          }
+
+        prm.enter_subsection("Motion " + name);
+        const Tensor<1, 3> translation = parse_vector(prm.get("Translation"));
+        const Tensor<1, 3> axis        = parse_vector(prm.get("Rotation axis"));
+        const double       angle       = prm.get_double("Rotation angle");
+        const std::string  centre_text = prm.get("Rotation centre");
+        prm.leave_subsection();
+
+        Point<3> centre;
+        if (!centre_text.empty())
+          {
+            const auto entries = Utilities::split_string_list(centre_text);
+            if (entries.size() != 3)
+              throw Error("Planning/Motion " + name +
+                          ": 'Rotation centre' must be empty or 'x, y, z' "
+                          "(got '" +
+                          centre_text + "').");
+            try
+              {
+                centre = Point<3>(parse_vector(centre_text));
+              }
+            catch (const std::exception &)
+              {
+                throw Error("Planning/Motion " + name +
+                            ": 'Rotation centre' is not three numbers (got '" +
+                            centre_text + "').");
+              }
+          }
+        else
+          {
+            unsigned int n = 0;
+            for (unsigned int v = 0; v < scene.vertex_segment().size(); ++v)
+              if (scene.vertex_segment()[v] == segment)
+                {
+                  centre += scene.triangulation.get_vertices()[v];
+                  ++n;
+                }
+            centre /= n;
+          }
+        try
+          {
+            set_motion(segment, RigidMotion(translation, axis, angle, centre));
+          }
+        catch (const Error &e)
+          {
+            throw Error("Planning/Motion " + name + ": " + e.what());
+          }
+      }
+    prm.leave_subsection();
+  }
+
+  void
+  Planning::set_motion(const unsigned int segment, const RigidMotion &motion)
+  {
+    motion_of_segment[segment] = motion;
+  }
+
+  Vector<double>
+  Planning::prescribed_displacement(const Scene &scene) const
+  {
+    Vector<double> u(scene.dof_handler.n_dofs());
+    const auto &   vertices = scene.triangulation.get_vertices();
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      {
+        const auto motion = motion_of_segment.find(scene.vertex_segment()[v]);
+        if (motion == motion_of_segment.end() ||
+            scene.vertex_dofs()[v][0] == numbers::invalid_dof_index)
+          continue;
+        const Tensor<1, 3> d = motion->second.displacement(vertices[v]);
+        for (unsigned int c = 0; c < 3; ++c)
+          u[scene.vertex_dofs()[v][c]] = d[c];
+      }
+    return u;
+  }
+} // namespace softface

@@ -1,0 +1,44 @@
+#include <deal.II/base/symmetric_tensor.h>
+#include <deal.II/physics/transformations.h>
+
+#include <softface/error.h>
+#include <softface/rigid_motion.h>
+
+#include <cmath>
+
+namespace softface
+{
+  RigidMotion::RigidMotion()
+    : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
+  {}
+
+  RigidMotion::RigidMotion(const Tensor<1, 3> &translation,
+                           const Tensor<1, 3> &axis,
+                           const double        angle_in_degrees,
+                           const Point<3> &    centre)
+    : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
+    , centre(centre)
+    , translation(translation)
+  {
+    if (angle_in_degrees != 0.)
+      {
+        if (!(axis.norm() > 0.))
+          throw Error("A rotation by " + std::to_string(angle_in_degrees) +
+                      " degrees needs a non-zero rotation axis.");
+        rotation = Physics::Transformations::Rotations::rotation_matrix_3d(
+          Tensor<1, 3>(axis / axis.norm()), angle_in_degrees * M_PI / 180.);
+      }
+  }
+
+  Point<3>
+  RigidMotion::operator()(const Point<3> &x) const
+  {
+    return centre + rotation * (x - centre) + translation;
+  }
+
+  Tensor<1, 3>
+  RigidMotion::displacement(const Point<3> &x) const
+  {
+    return (*this)(x)-x;
+  }
+} // namespace softface

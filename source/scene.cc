@@ -1,0 +1,316 @@
+#include <deal.II/base/utilities.h>
+#include <deal.II/dofs/dof_accessor.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <softface/error.h>
+#include <softface/scene.h>
+
+#include <numeric>
+#include <sstream>
+
+namespace softface
+{
+  namespace
+  {
+    // A list of ids from the parameter file: "1, 3" -> {1, 3}.
+    template <typename Id>
+    std::set<Id>
+    parse_ids(const std::string &text)
+    {
+      std::set<Id> ids;
+      for (const std::string &entry : Utilities::split_string_list(text))
+        ids.insert(static_cast<Id>(Utilities::string_to_int(entry)));
+      return ids;
+    }
+
+    // Union-find with path halving, for the connectivity check.
+    unsigned int
+    find_root(std::vector<unsigned int> &parent, unsigned int i)
+    {
+      while (parent[i] != i)
+        i = parent[i] = parent[parent[i]];
+      return i;
+    }
+  } // namespace
+
+  Scene::Scene()
+    : fe(FE_SimplexP<3>(1), 3)
+    , mapping(FE_SimplexP<3>(1))
+    , dof_handler(triangulation)
+  {}
+
+  void
+  Scene::declare_parameters(ParameterHandler &              prm,
+                            const std::vector<std::string> &segment_names)
+  {
+    prm.enter_subsection("Scene");
+    prm.declare_entry("Mesh source",
+                      "cube",
+                      Patterns::Selection("cube|file"),
+                      "Where the tetrahedral mesh comes from: 'cube' generates "
+                      "the seed's cube benchmark (subsection Cube), 'file' "
+                      "reads 'Mesh file'.");
+    prm.declare_entry("Mesh file",
+                      "",
+                      Patterns::Anything(),
+                      "Mesh to read when 'Mesh source = file': gmsh .msh "
+                      "(format 2 or 4.1; physical volumes give material ids, "
+                      "physical surfaces boundary ids), legacy VTK .vtk, or a "
+                      "deal.II .vtu. Relative to the parameter file's folder.");
+    prm.declare_entry("Bone segments",
+                      "fixed, bone",
+                      Patterns::List(Patterns::Anything()),
+                      "Names of the bone segments. Each has a subsection "
+                      "'Segment <name>' saying which vertices touch it; those "
+                      "are its join points (seed 3.3). The defaults describe "
+                      "the generated cube.");
+    Mesh::CubeParameters::declare_parameters(prm);
+    for (const std::string &name : segment_names)
+      {
+        prm.enter_subsection("Segment " + name);
+        prm.declare_entry("Material ids",
+                          name == "bone" ? "2" : "",
+                          Patterns::List(Patterns::Integer(0, 255)),
+                          "The vertices of cells with these material ids are "
+                          "join points of this segment.");
+        prm.declare_entry("Boundary ids",
+                          name == "fixed" ? "1" : "",
+                          Patterns::List(Patterns::Integer(0, 255)),
+                          "The vertices of boundary faces with these boundary "
+                          "ids are join points of this segment.");
+        prm.leave_subsection();
+      }
+    prm.leave_subsection();
+    Material::declare_parameters(prm);
+  }
+
+  std::vector<std::string>
+  Scene::segment_names(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Scene");
+    const auto names = Utilities::split_string_list(prm.get("Bone segments"));
+    prm.leave_subsection();
+    return names;
+  }
+
+  void
+  Scene::parse_parameters(ParameterHandler & prm,
+                          const std::string &input_directory)
+  {
+    material.parse_parameters(prm);
+
+    prm.enter_subsection("Scene");
+    const std::string source = prm.get("Mesh source");
+    std::string       file   = prm.get("Mesh file");
+    Mesh::CubeParameters cube;
+    cube.parse_parameters(prm);
+
+    segments.clear();
+    for (const std::string &name :
+         Utilities::split_string_list(prm.get("Bone segments")))
+      {
+        BoneSegment segment;
+        segment.name = name;
+        prm.enter_subsection("Segment " + name);
+        segment.material_ids =
+          parse_ids<types::material_id>(prm.get("Material ids"));
+        segment.boundary_ids =
+          parse_ids<types::boundary_id>(prm.get("Boundary ids"));
+        prm.leave_subsection();
+        segments.push_back(segment);
+      }
+    prm.leave_subsection();
+
+    if (source == "cube")
+      {
+        Mesh::generate_cube(cube, triangulation);
+        mesh_description = "generated cube";
+      }
+    else
+      {
+        if (file.empty())
+          throw Error("Scene: 'Mesh source = file' needs a 'Mesh file'.");
+        if (file[0] != '/' && !input_directory.empty())
+          file = input_directory + "/" + file;
+        Mesh::read_file(file, triangulation);
+        mesh_description = "'" + file + "'";
+      }
+    setup();
+  }
+
+  void
+  Scene::setup()
+  {
+    Mesh::check_cells(triangulation, mesh_description);
+    if (segments.empty())
+      throw Error("Scene: no bone segment is defined; without join points "
+                  "every displacement is undetermined.");
+
+    dof_handler.distribute_dofs(fe);
+    vertex_dof_indices.assign(
+      triangulation.n_vertices(),
+      {{numbers::invalid_dof_index,
+        numbers::invalid_dof_index,
+        numbers::invalid_dof_index}});
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const unsigned int v : cell->vertex_indices())
+        for (unsigned int c = 0; c < 3; ++c)
+          vertex_dof_indices[cell->vertex_index(v)][c] =
+            cell->vertex_dof_index(v, c);
+
+    find_join_points();
+    check_free_region_connectivity();
+  }
+
+  void
+  Scene::find_join_points()
+  {
+    const unsigned int free = numbers::invalid_unsigned_int;
+    segment_of_vertex.assign(triangulation.n_vertices(), free);
+    n_joins_of_segment.assign(segments.size(), 0);
+
+    const auto claim = [&](const unsigned int vertex, const unsigned int s) {
+      unsigned int &owner = segment_of_vertex[vertex];
+      if (owner == s)
+        return;
+      if (owner != free)
+        {
+          std::ostringstream m;
+          m << "Scene: vertex " << vertex << " at ("
+            << triangulation.get_vertices()[vertex] << ") touches both bone "
+            << "segment '" << segments[owner].name << "' and '"
+            << segments[s].name << "'; a join point belongs to one segment.";
+          throw Error(m.str());
+        }
+      owner = s;
+      ++n_joins_of_segment[s];
+    };
+
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      {
+        for (const auto &cell : triangulation.active_cell_iterators())
+          {
+            if (segments[s].material_ids.count(cell->material_id()))
+              for (const unsigned int v : cell->vertex_indices())
+                claim(cell->vertex_index(v), s);
+            for (const auto &face : cell->face_iterators())
+              if (face->at_boundary() &&
+                  segments[s].boundary_ids.count(face->boundary_id()))
+                for (const unsigned int v : face->vertex_indices())
+                  claim(face->vertex_index(v), s);
+          }
+        if (n_joins_of_segment[s] == 0)
+          {
+            std::ostringstream m;
+            m << "Scene: bone segment '" << segments[s].name
+              << "' selects no vertex of mesh " << mesh_description
+              << " (material ids {";
+            for (const auto id : segments[s].material_ids)
+              m << ' ' << static_cast<unsigned int>(id);
+            m << " }, boundary ids {";
+            for (const auto id : segments[s].boundary_ids)
+              m << ' ' << static_cast<unsigned int>(id);
+            m << " }).";
+            throw Error(m.str());
+          }
+      }
+
+    is_join_dof.assign(dof_handler.n_dofs(), false);
+    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+      if (segment_of_vertex[v] != free &&
+          vertex_dof_indices[v][0] != numbers::invalid_dof_index)
+        for (const auto dof : vertex_dof_indices[v])
+          is_join_dof[dof] = true;
+  }
+
+  void
+  Scene::check_free_region_connectivity() const
+  {
+    // Every connected piece of the mesh must contain a join point: a piece
+    // without one could move freely and make the system singular.
+    std::vector<unsigned int> parent(triangulation.n_vertices());
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const auto &cell : triangulation.active_cell_iterators())
+      {
+        const unsigned int root0 = find_root(parent, cell->vertex_index(0));
+        for (unsigned int v = 1; v < 4; ++v)
+          parent[find_root(parent, cell->vertex_index(v))] = root0;
+      }
+
+    std::vector<bool> component_has_join(parent.size(), false);
+    for (unsigned int v = 0; v < parent.size(); ++v)
+      if (segment_of_vertex[v] != numbers::invalid_unsigned_int)
+        component_has_join[find_root(parent, v)] = true;
+
+    unsigned int n_stranded = 0, example = 0;
+    for (unsigned int v = 0; v < parent.size(); ++v)
+      if (vertex_dof_indices[v][0] != numbers::invalid_dof_index &&
+          !component_has_join[find_root(parent, v)])
+        {
+          if (n_stranded++ == 0)
+            example = v;
+        }
+    if (n_stranded > 0)
+      {
+        std::ostringstream m;
+        m << "Scene: " << n_stranded << " free vertices (e.g. vertex "
+          << example << " at (" << triangulation.get_vertices()[example]
+          << ")) of mesh " << mesh_description
+          << " form a region connected to no join point, so their "
+             "displacement is undetermined. Let a bone segment hold that "
+             "region or remove it from the mesh.";
+        throw Error(m.str());
+      }
+  }
+
+  unsigned int
+  Scene::segment_index(const std::string &name) const
+  {
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      if (segments[s].name == name)
+        return s;
+    std::string known;
+    for (const auto &s : segments)
+      known += (known.empty() ? "'" : ", '") + s.name + "'";
+    throw Error("Unknown bone segment '" + name +
+                "'; the scene's segments are " + known + ".");
+  }
+
+  unsigned int
+  Scene::n_vertices() const
+  {
+    return triangulation.n_used_vertices();
+  }
+
+  unsigned int
+  Scene::n_free_dofs() const
+  {
+    return std::count(is_join_dof.begin(), is_join_dof.end(), false);
+  }
+
+  unsigned int
+  Scene::n_join_vertices(const unsigned int segment) const
+  {
+    return n_joins_of_segment.at(segment);
+  }
+
+  const std::vector<std::array<types::global_dof_index, 3>> &
+  Scene::vertex_dofs() const
+  {
+    return vertex_dof_indices;
+  }
+
+  const std::vector<unsigned int> &
+  Scene::vertex_segment() const
+  {
+    return segment_of_vertex;
+  }
+
+  const std::vector<bool> &
+  Scene::join_dofs() const
+  {
+    return is_join_dof;
+  }
+} // namespace softface

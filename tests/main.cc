@@ -1,0 +1,57 @@
+// The driver of all deal.II-style tests: softface_tests NAME runs the test
+// registered as NAME with deallog writing to stdout.
+
+#include <deal.II/base/mpi.h>
+
+#include <softface/error.h>
+
+#include "tests.h"
+
+#include <iostream>
+#include <map>
+
+namespace softface_tests
+{
+  std::map<std::string, void (*)()> &
+  registry()
+  {
+    static std::map<std::string, void (*)()> tests;
+    return tests;
+  }
+
+  bool
+  register_test(const std::string &name, void (*function)())
+  {
+    registry()[name] = function;
+    return true;
+  }
+} // namespace softface_tests
+
+int
+main(int argc, char **argv)
+{
+  dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  const auto &tests = softface_tests::registry();
+  if (argc != 2 || tests.count(argv[1]) == 0)
+    {
+      std::cerr << "usage: softface_tests NAME; tests:";
+      for (const auto &test : tests)
+        std::cerr << ' ' << test.first;
+      std::cerr << std::endl;
+      return 2;
+    }
+  dealii::deallog.attach(std::cout, /*print_job_id=*/false);
+  dealii::deallog.depth_console(0);
+  try
+    {
+      tests.at(argv[1])();
+    }
+  catch (const std::exception &e)
+    {
+      std::cout.flush();
+      std::cerr << "test " << argv[1]
+                << " failed: " << softface::error_message(e) << std::endl;
+      return 1;
+    }
+  return 0;
+}

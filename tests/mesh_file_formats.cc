@@ -1,0 +1,115 @@
+// Mesh files: the generated cube written by deal.II's GridOut as legacy VTK,
+// gmsh .msh and serialised .vtu, and read back by Mesh::read_file, keeps its
+// cells, vertices, material ids and boundary ids, and gives the same linear
+// FEM answer as the cube it came from. (gmsh 4.1 files from gmsh itself are
+// read in peer_calculix_cube30k.)
+
+#include <deal.II/grid/grid_out.h>
+
+#include <softface/models/linear_fem.h>
+
+#include "scenes.h"
+#include "tests.h"
+
+#include <fstream>
+
+using namespace softface;
+
+namespace
+{
+  Vector<double>
+  lift(const Scene &scene)
+  {
+    Models::LinearFEM model;
+    model.set_solver("direct", 0.);
+    model.setup(scene);
+    Vector<double> u;
+    model.solve(softface_tests::move_bone(scene, Point<3>(0, 0, 6)), u);
+    return u;
+  }
+
+  // Displacement per vertex position, to compare across vertex numberings.
+  std::map<std::array<long long, 3>, Tensor<1, 3>>
+  by_position(const Scene &scene, const Vector<double> &u)
+  {
+    std::map<std::array<long long, 3>, Tensor<1, 3>> result;
+    const auto &vertices = scene.triangulation.get_vertices();
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
+        {
+          Tensor<1, 3> d;
+          for (unsigned int c = 0; c < 3; ++c)
+            d[c] = u[scene.vertex_dofs()[v][c]];
+          result[{{std::llround(vertices[v][0] * 1e6),
+                   std::llround(vertices[v][1] * 1e6),
+                   std::llround(vertices[v][2] * 1e6)}}] = d;
+        }
+    return result;
+  }
+} // namespace
+
+SOFTFACE_TEST(mesh_file_formats)
+{
+  // 5 mm grid boxes: every coordinate is a multiple of 5, which GridOut's
+  // six-digit ASCII output writes exactly.
+  Scene original;
+  softface_tests::make_cube_scene(original, 6 * 16 * 16 * 16);
+  const auto reference = by_position(original, lift(original));
+
+  GridOut grid_out;
+  GridOutFlags::Vtk vtk_flags;
+  vtk_flags.output_cells = true;
+  vtk_flags.output_faces = true;
+  vtk_flags.output_edges = false;
+  grid_out.set_flags(vtk_flags);
+  GridOutFlags::Vtu vtu_flags;
+  vtu_flags.serialize_triangulation = true;
+  grid_out.set_flags(vtu_flags);
+  GridOutFlags::Msh msh_flags(/*write_faces=*/true);
+  grid_out.set_flags(msh_flags);
+
+  for (const std::string extension : {"vtk", "msh", "vtu"})
+    {
+      const std::string filename = "mesh_file_formats_cube." + extension;
+      {
+        std::ofstream out(filename);
+        if (extension == "vtk")
+          grid_out.write_vtk(original.triangulation, out);
+        else if (extension == "msh")
+          grid_out.write_msh(original.triangulation, out);
+        else
+          grid_out.write_vtu(original.triangulation, out);
+      }
+      Scene scene;
+      Mesh::read_file(filename, scene.triangulation);
+      scene.mesh_description = filename;
+      scene.segments = original.segments;
+      scene.setup();
+
+      deallog << extension << ": " << scene.triangulation.n_active_cells()
+              << " cells, " << scene.n_vertices() << " vertices, "
+              << scene.n_join_vertices(0) << " + " << scene.n_join_vertices(1)
+              << " join points" << std::endl;
+      softface_tests::check(
+        scene.triangulation.n_active_cells() ==
+            original.triangulation.n_active_cells() &&
+          scene.n_vertices() == original.n_vertices() &&
+          scene.n_join_vertices(0) == original.n_join_vertices(0) &&
+          scene.n_join_vertices(1) == original.n_join_vertices(1),
+        extension + ": same cells, vertices and join points");
+
+      const auto u   = by_position(scene, lift(scene));
+      double     max = 0.;
+      bool       same_vertices = (u.size() == reference.size());
+      for (const auto &[key, d] : u)
+        {
+          const auto r = reference.find(key);
+          if (r == reference.end())
+            same_vertices = false;
+          else
+            max = std::max(max, (d - r->second).norm());
+        }
+      softface_tests::check(same_vertices && max < 1e-9,
+                            extension + ": same displacement to 1e-9 mm");
+    }
+}

@@ -1,0 +1,54 @@
+#ifndef softface_tests_scenes_h
+#define softface_tests_scenes_h
+
+// Scenes that several tests share, built in code.
+
+#include <softface/mesh.h>
+#include <softface/planning.h>
+#include <softface/scene.h>
+
+namespace softface_tests
+{
+  using namespace softface;
+
+  /// The seed's cube: outer faces held (segment 0, "fixed"), inner cube
+  /// (segment 1, "bone") free to be moved by a planning.
+  inline void
+  make_cube_scene(Scene &scene, const unsigned int target_n_tetrahedra)
+  {
+    Mesh::CubeParameters cube;
+    cube.target_n_tetrahedra = target_n_tetrahedra;
+    Mesh::generate_cube(cube, scene.triangulation);
+    scene.mesh_description = "generated cube";
+    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}},
+                      {"bone", {Mesh::cube_inner_id}, {}}};
+    scene.setup();
+  }
+
+  /// The seed's planning: the inner cube moves by @p translation, rotated by
+  /// @p angle degrees about z through the cube's centre.
+  inline Vector<double>
+  move_bone(const Scene &     scene,
+            const Point<3> &  translation,
+            const double      angle = 0.)
+  {
+    Planning planning;
+    planning.set_motion(1,
+                        RigidMotion(translation,
+                                    Point<3>(0, 0, 1),
+                                    angle,
+                                    Point<3>(40, 40, 40)));
+    return planning.prescribed_displacement(scene);
+  }
+
+  /// max_i |a_i - b_i| / max_i |b_i|
+  inline double
+  relative_difference(const Vector<double> &a, const Vector<double> &b)
+  {
+    Vector<double> d = a;
+    d -= b;
+    return d.linfty_norm() / b.linfty_norm();
+  }
+} // namespace softface_tests
+
+#endif
