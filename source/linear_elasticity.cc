@@ -6,6 +6,9 @@
 
 #include <softface/linear_elasticity.h>
 
+#include <algorithm>
+#include <numeric>
+
 namespace softface
 {
   namespace LinearElasticity
@@ -68,25 +71,40 @@ namespace softface
       const double lambda = scene.material.lambda();
       const double mu     = scene.material.mu();
 
-      FullMatrix<double>                   local(12, 12);
-      std::vector<types::global_dof_index> local_dofs(12);
+      // Adding a row with sorted column indices lets SparseMatrix merge it
+      // into the row instead of searching for each entry: the sort is done
+      // once per cell and serves all twelve rows.
+      std::array<unsigned int, 12>            order;
+      std::array<types::global_dof_index, 12> dofs, sorted_dofs;
+      std::array<double, 12>                  row_values;
       stiffness = 0;
       for (const auto &cell : scene.triangulation.active_cell_iterators())
         {
           const TetrahedronStiffness K =
             tetrahedron_stiffness(cell_vertices(cell), lambda, mu);
           for (unsigned int a = 0; a < 4; ++a)
-            {
-              const auto &dofs = scene.vertex_dofs()[cell->vertex_index(a)];
-              for (unsigned int i = 0; i < 3; ++i)
-                {
-                  local_dofs[3 * a + i] = dofs[i];
-                  for (unsigned int b = 0; b < 4; ++b)
-                    for (unsigned int j = 0; j < 3; ++j)
-                      local(3 * a + i, 3 * b + j) = K[a][b][i][j];
-                }
-            }
-          stiffness.add(local_dofs, local);
+            for (unsigned int i = 0; i < 3; ++i)
+              dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
+          std::iota(order.begin(), order.end(), 0u);
+          std::sort(order.begin(), order.end(), [&](unsigned int p,
+                                                    unsigned int q) {
+            return dofs[p] < dofs[q];
+          });
+          for (unsigned int k = 0; k < 12; ++k)
+            sorted_dofs[k] = dofs[order[k]];
+
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                for (unsigned int k = 0; k < 12; ++k)
+                  row_values[k] = K[a][order[k] / 3][i][order[k] % 3];
+                stiffness.add(dofs[3 * a + i],
+                              12,
+                              sorted_dofs.data(),
+                              row_values.data(),
+                              /*elide_zero_values=*/false,
+                              /*col_indices_are_sorted=*/true);
+              }
         }
     }
   } // namespace LinearElasticity

@@ -137,6 +137,10 @@ namespace softface
         material[cell->active_cell_index()] = cell->material_id();
       data_out.add_data_vector(material, "material_id");
       data_out.build_patches(scene.mapping);
+      // zlib at its strongest spends seconds on large meshes for little gain.
+      DataOutBase::VtkFlags flags;
+      flags.compression_level = DataOutBase::VtkFlags::best_speed;
+      data_out.set_flags(flags);
 
       std::ofstream out = open(filename);
       data_out.write_vtu(out);

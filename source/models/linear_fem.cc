@@ -39,6 +39,11 @@ namespace softface
                         "50",
                         Patterns::Integer(1),
                         "Krylov vectors kept before GMRES restarts.");
+      prm.declare_entry("AMG smoother sweeps",
+                        "2",
+                        Patterns::Integer(1, 10),
+                        "Chebyshev smoother sweeps before and after each "
+                        "coarse correction of the AMG V-cycle.");
       prm.declare_entry("AMG aggregation threshold",
                         "0.02",
                         Patterns::Double(0., 1.),
@@ -54,6 +59,7 @@ namespace softface
       max_iterations        = prm.get_integer("Maximum iterations");
       gmres_restart         = prm.get_integer("GMRES restart");
       aggregation_threshold = prm.get_double("AMG aggregation threshold");
+      smoother_sweeps       = prm.get_integer("AMG smoother sweeps");
     }
 
     void
@@ -74,6 +80,8 @@ namespace softface
       Timer total, phase;
 
       LinearElasticity::make_sparsity_pattern(*scene, sparsity);
+      stats.phases.emplace_back("sparsity", phase.wall_time());
+      phase.restart();
       stiffness.reinit(sparsity);
       LinearElasticity::assemble_stiffness(*scene, stiffness);
       stats.phases.emplace_back("assemble", phase.wall_time());
@@ -120,7 +128,7 @@ namespace softface
       TrilinosWrappers::PreconditionAMG::AdditionalData data;
       data.elliptic              = true;
       data.higher_order_elements = false;
-      data.smoother_sweeps       = 2;
+      data.smoother_sweeps       = smoother_sweeps;
       data.aggregation_threshold = aggregation_threshold;
       data.constant_modes = std::vector<std::vector<bool>>(
         3, std::vector<bool>(scene->dof_handler.n_dofs(), false));
@@ -163,6 +171,17 @@ namespace softface
           modes[5][dofs[0]] = -x[1];
           modes[5][dofs[1]] = x[0];
         }
+      // Aggregate vertices (blocks of three DoFs), not single DoFs: this
+      // made ML's setup about 25% cheaper on the 100k cube for about the
+      // same number of CG iterations.
+      // ML's blocks are DoFs 3k..3k+2, which is how deal.II numbers the
+      // vertex DoFs of FESystem(FE_SimplexP(1), 3) unless renumbered.
+      bool vertex_blocks = true;
+      for (const auto &dofs : scene->vertex_dofs())
+        if (dofs[0] != numbers::invalid_dof_index)
+          vertex_blocks &= (dofs[0] % 3 == 0 && dofs[1] == dofs[0] + 1 &&
+                            dofs[2] == dofs[0] + 2);
+      parameters.set("PDE equations", vertex_blocks ? 3 : 1);
       parameters.set("null space: type", "pre-computed");
       parameters.set("null space: dimension", modes.NumVectors());
       parameters.set("null space: vectors", modes.Values());

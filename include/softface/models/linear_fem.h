@@ -76,6 +76,7 @@ namespace softface
       unsigned int max_iterations     = 10000;
       unsigned int gmres_restart      = 50;
       double       aggregation_threshold = 0.02;
+      unsigned int smoother_sweeps       = 2;
 
       Vector<double>       nodal_forces;
       SparsityPattern      sparsity;

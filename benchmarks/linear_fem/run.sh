@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Linear FEM on the seed's cube at about 30k, 100k, 200k and 500k tetrahedra
+# with each linear solver, one softface process per case (so that the peak
+# memory is the case's own). Writes doc/results/linear_fem.{md,csv,png}.
+#
+#   benchmarks/linear_fem/run.sh [--quick]     (--quick: 30k and 100k only)
+#
+# Needs a built softface (./run.sh or ./test.sh builds it) and, for the plot,
+# /usr/bin/python3 with Debian's python3-matplotlib.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+softface=${SOFTFACE:-$root/build/softface}
+results=$root/doc/results
+work=$root/build/benchmarks/linear_fem
+[ -x "$softface" ] || { echo "build softface first (./run.sh or ./test.sh)"; exit 1; }
+
+sizes="30000 100000 200000 500000"
+[ "${1:-}" = "--quick" ] && sizes="30000 100000"
+solvers=("cg amg" "direct" "gmres jacobi")
+
+mkdir -p "$work" "$results"
+csv=$work/linear_fem.csv
+echo "solver,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,iterations,max_displacement_mm,peak_memory_mb,phases" > "$csv"
+n_cases=$(( $(echo $sizes | wc -w) * ${#solvers[@]} ))
+i=0
+start=$(date +%s)
+for tets in $sizes; do
+  for solver in "${solvers[@]}"; do
+    i=$((i + 1))
+    tag="${tets}_${solver// /_}"
+    sed -e "s/@TETS@/$tets/" -e "s/@SOLVER@/$solver/" -e "s|@OUTPUT@|$work/$tag|" \
+      "$here/cube.prm.in" > "$work/$tag.prm"
+    echo "[$i/$n_cases] $tets tetrahedra, $solver (elapsed $(( $(date +%s) - start )) s)"
+    "$softface" "$work/$tag.prm" > "$work/$tag.log"
+    peak=$(sed -n 's/.*peak memory \([0-9]*\) MB.*/\1/p' "$work/$tag.log")
+    phases=$(sed -n 's/^linear fem phases: *\(.*\) *(relative.*/\1/p' "$work/$tag.log" | sed 's/  */ /g')
+    tail -n 1 "$work/$tag/summary.csv" | sed "s/^linear fem/$solver/" | tr -d '\n' >> "$csv"
+    echo ",$peak,$phases" >> "$csv"
+  done
+done
+
+cp "$csv" "$results/linear_fem.csv"
+/usr/bin/python3 "$here/report.py" "$results/linear_fem.csv" "$results" "$0 $*"
+echo "wrote $results/linear_fem.md, linear_fem.csv, linear_fem.png"
