@@ -89,12 +89,14 @@ def main():
         f.write("\n".join(md))
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for s in solvers:
+    for k, s in enumerate(solvers):
         rs = sorted((r for r in rows if r["solver"] == s), key=lambda r: r["n_tets"])
         n = [r["n_tets"] for r in rs]
-        ax1.loglog(n, [r["setup_s"] + r["solve_s"] for r in rs], "o-", label=f"{s}: setup + solve")
-        ax1.loglog(n, [r["solve_s"] for r in rs], "x--", label=f"{s}: solve (re-plan)")
-        ax2.semilogx(n, [r["iterations"] for r in rs], "o-", label=s)
+        c = f"C{k}"
+        ax1.loglog(n, [r["setup_s"] + r["solve_s"] for r in rs], "o-", color=c,
+                   label=f"{s}: setup + solve")
+        ax1.loglog(n, [r["solve_s"] for r in rs], "x--", color=c, label=f"{s}: solve (re-plan)")
+        ax2.semilogx(n, [r["iterations"] for r in rs], "o-", color=c, label=s)
     ax1.set_xlabel("tetrahedra")
     ax1.set_ylabel("wall time [s]")
     ax1.set_title("Linear FEM, 6 mm cube")
