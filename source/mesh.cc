@@ -5,6 +5,7 @@
 
 #include <softface/error.h>
 #include <softface/mesh.h>
+#include <softface/vtu_reader.h>
 
 #include <algorithm>
 #include <cmath>
@@ -182,11 +183,23 @@ namespace softface
           else if (extension == "vtk")
             grid_in.read_vtk(in);
           else if (extension == "vtu")
-            grid_in.read_vtu(in);
+            {
+              // deal.II reads only its own serialised .vtu; everything else
+              // (ParaView, VTK, meshio) goes through softface's reader.
+              std::ostringstream head;
+              head << in.rdbuf();
+              if (head.str().find("<dealiiData") != std::string::npos)
+                {
+                  std::istringstream again(head.str());
+                  grid_in.read_vtu(again);
+                }
+              else
+                read_vtu(filename, triangulation);
+            }
           else
             throw Error("Mesh file '" + filename +
                         "': unknown format '." + extension +
-                        "' (softface reads .msh, .vtk and deal.II's .vtu).");
+                        "' (softface reads .msh, .vtk and .vtu).");
         }
       catch (const Error &)
         {

@@ -51,8 +51,8 @@ namespace softface
     /**
      * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
      * become material ids, physical surfaces boundary ids), legacy VTK .vtk
-     * (CELL_DATA "MaterialID"), or a .vtu written by deal.II with its
-     * triangulation serialised. Errors name the file.
+     * (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
+     * serialised .vtu too). Errors name the file.
      */
     void
     read_file(const std::string &filename, Triangulation<3> &triangulation);

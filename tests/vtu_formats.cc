@@ -1,0 +1,51 @@
+// VTK XML meshes as other tools write them: the unit cube in six tetrahedra
+// written by tests/data/vtu/make_vtu.py (independent of the reader, after the
+// VTK specification) as ascii, inline binary + zlib with 64-bit headers,
+// appended raw, and appended + zlib. Each must give 6 tetrahedra of total
+// volume 1 with material id 7, and boundary ids 3 on the two triangles of
+// z = 0 and 4 on the ten others.
+
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <softface/mesh.h>
+#include "tests.h"
+
+using namespace softface;
+
+SOFTFACE_TEST(vtu_formats)
+{
+  for (const std::string name :
+       {"ascii", "binary_zlib", "appended_raw", "appended_zlib"})
+    {
+      Triangulation<3> tria;
+      Mesh::read_file(
+        softface_tests::source_file("data/vtu/cube6_" + name + ".vtu"), tria);
+      Mesh::check_cells(tria, name);
+      double       volume = 0.;
+      unsigned int n_material_7 = 0, n_id_3 = 0, n_id_4 = 0, n_bottom = 0;
+      for (const auto &cell : tria.active_cell_iterators())
+        {
+          volume += Mesh::signed_volume(
+            {{cell->vertex(0), cell->vertex(1), cell->vertex(2),
+              cell->vertex(3)}});
+          n_material_7 += (cell->material_id() == 7);
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary())
+              {
+                n_id_3 += (face->boundary_id() == 3);
+                n_id_4 += (face->boundary_id() == 4);
+                n_bottom += (face->center()[2] == 0.) && (face->boundary_id() == 3);
+              }
+        }
+      deallog << name << ": " << tria.n_active_cells() << " cells, "
+              << tria.n_used_vertices() << " vertices" << std::endl;
+      softface_tests::check(tria.n_active_cells() == 6 &&
+                              tria.n_used_vertices() == 8 &&
+                              std::abs(volume - 1.) < 1e-14 &&
+                              n_material_7 == 6,
+                            name + ": six tetrahedra, volume 1, material 7");
+      softface_tests::check(n_id_3 == 2 && n_bottom == 2 && n_id_4 == 10,
+                            name + ": boundary ids 3 (z = 0) and 4");
+    }
+}
