@@ -147,23 +147,37 @@ namespace softface
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
+    // A model that fails (no convergence, a motion it cannot follow) is
+    // reported and left out; the others still run, and the exit code says
+    // that something failed.
     std::vector<Output::ModelRun> runs;
+    std::vector<std::string>      failures;
     for (unsigned int m = 0; m < models.size(); ++m)
       {
         auto &[name, model] = models[m];
         std::cout << "  [" << m + 1 << '/' << models.size() << "] " << name
                   << ": setup" << std::flush;
-        model->setup(scene);
-        std::cout << " " << model->statistics().setup_time << " s, solve"
-                  << std::flush;
-        Output::ModelRun run;
-        run.model = name;
-        model->solve(prescribed, run.displacement);
-        run.statistics = model->statistics();
-        std::cout << " " << run.statistics.solve_time << " s" << std::endl;
-        runs.push_back(std::move(run));
+        try
+          {
+            model->setup(scene);
+            std::cout << " " << model->statistics().setup_time << " s, solve"
+                      << std::flush;
+            Output::ModelRun run;
+            run.model = name;
+            model->solve(prescribed, run.displacement);
+            run.statistics = model->statistics();
+            std::cout << " " << run.statistics.solve_time << " s" << std::endl;
+            runs.push_back(std::move(run));
+          }
+        catch (const Error &e)
+          {
+            std::cout << " failed" << std::endl;
+            std::cerr << "softface: error: " << e.what() << std::endl;
+            failures.push_back(name);
+          }
       }
 
+    Output::compare_to_linear_fem(scene, runs);
     Output::print_summary_table(scene, runs, std::cout);
     Output::write_summary_csv(scene, runs, output.directory + "/summary.csv");
     if (output.write_vtu)
@@ -186,6 +200,15 @@ namespace softface
               << "Wall time " << std::setprecision(2) << wall.wall_time()
               << " s, peak memory " << memory.VmHWM / 1024 << " MB"
               << std::endl;
+    if (!failures.empty())
+      {
+        std::string names;
+        for (const auto &f : failures)
+          names += (names.empty() ? "" : ", ") + f;
+        std::cerr << "softface: " << failures.size()
+                  << " model(s) failed: " << names << std::endl;
+        return 1;
+      }
     return 0;
   }
 } // namespace softface

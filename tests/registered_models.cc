@@ -14,7 +14,7 @@ SOFTFACE_TEST(registered_models)
   const auto names = Models::registered_names();
   for (const auto &name : names)
     deallog << name << std::endl;
-  softface_tests::check(std::count(names.begin(), names.end(), "linear fem") ==
-                          1,
-                        "linear fem is registered");
+  for (const std::string name : {"linear fem", "mass spring", "mass tensor"})
+    softface_tests::check(std::count(names.begin(), names.end(), name) == 1,
+                          name + " is registered once");
 }

@@ -24,7 +24,15 @@ namespace softface
       std::string        model;
       Models::Statistics statistics;
       Vector<double>     displacement;
+      /// Largest and mean |u - u_linear_fem| over the free vertices (mm);
+      /// negative when the run has no linear fem row to compare with.
+      double max_difference  = -1.;
+      double mean_difference = -1.;
     };
+
+    /// Fill every run's difference to the "linear fem" run, if there is one.
+    void
+    compare_to_linear_fem(const Scene &scene, std::vector<ModelRun> &runs);
 
     /// Largest vertex displacement |u| in mm.
     double
@@ -35,7 +43,8 @@ namespace softface
     file_name_of(const std::string &model);
 
     /// Columns model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,
-    /// iterations,max_displacement_mm.
+    /// iterations,max_displacement_mm,max_diff_to_linear_fem_mm,
+    /// mean_diff_to_linear_fem_mm (the last two empty without linear fem).
     void
     write_summary_csv(const Scene &                scene,
                       const std::vector<ModelRun> &runs,

@@ -27,6 +27,8 @@ namespace softface
       double       residual   = 0.; ///< the model's own measure at the end
       /// Finer phases (name, s), printed under the summary table.
       std::vector<std::pair<std::string, double>> phases;
+      /// Model-specific figures (name, value), printed with the phases.
+      std::vector<std::pair<std::string, std::string>> details;
     };
 
     /**

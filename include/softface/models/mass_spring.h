@@ -1,0 +1,96 @@
+#ifndef softface_models_mass_spring_h
+#define softface_models_mass_spring_h
+
+#include <softface/models/interface.h>
+
+#include <array>
+#include <vector>
+
+namespace softface
+{
+  namespace Models
+  {
+    /**
+     * The tetrahedral Mass Spring Model of the seed (section 2.2): one
+     * linear spring per mesh edge with k = E sum(V of the tetrahedra sharing
+     * the edge) / L0^2 (eq. 5, Gelder 1998), nonlinear in the positions
+     * (eq. 4).
+     *
+     * Static equilibrium by local steepest descent: a point moves along its
+     * force F_i by F_i / sum_j k_j (the step that would zero the force if the
+     * springs were aligned with it), never by more than a fraction of its
+     * shortest spring (so no spring can flip in one step), updated in place.
+     * Dynamic cut-out: a sweep visits only the neighbours of points that
+     * moved, and a point moves only while its step, |F_i| / sum k, exceeds
+     * the threshold. A step that would invert a tetrahedron is halved until
+     * it does not (at most 8 times, else not taken). The join points' motion is applied in load steps no
+     * longer than the step bound of their shortest spring, so that a moving
+     * bone cannot jump past its free neighbours. At the end, inverted
+     * direction) and inverted tetrahedra are counted and reported.
+     */
+    class MassSpring : public Interface
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      void
+      setup(const Scene &scene) override;
+      void
+      solve(const Vector<double> &prescribed,
+            Vector<double> &      displacement) override;
+
+      void
+      set_stop_threshold(const double threshold_mm);
+
+      struct Spring
+      {
+        unsigned int a, b;
+        double       rest_length;
+        double       stiffness; ///< N/mm
+      };
+      const std::vector<Spring> &
+      springs() const;
+
+      struct Report
+      {
+        unsigned int       sweeps        = 0;
+        unsigned int       load_steps    = 0;
+        unsigned long long point_updates = 0;
+        double             max_step      = 0.; ///< |F|/sum k at the end, mm
+        /// Tetrahedra turned inside out at the end (a flipped spring
+        /// inverts the tetrahedra around it).
+        unsigned int       inverted_tetrahedra  = 0;
+        /// Updates not taken because every halving of the step would have
+        /// inverted a tetrahedron.
+        unsigned long long blocked_updates      = 0;
+      };
+      const Report &
+      report() const;
+
+    private:
+      double       stop_threshold = 1e-3;
+      double       max_step_fraction = 0.25;
+      unsigned int max_sweeps     = 200000;
+
+      const Scene *scene = nullptr;
+      std::vector<Spring> spring_list;
+      // Per point: its springs (CSR), the other end and the spring index.
+      std::vector<unsigned int> row_start;
+      std::vector<unsigned int> other_end;
+      std::vector<unsigned int> spring_of;
+      std::vector<double>       total_stiffness;
+      std::vector<Point<3>>     rest_position;
+      std::vector<bool>         is_free;
+      std::vector<std::array<unsigned int, 4>> tetrahedra;
+      std::vector<unsigned int> tet_start;
+      std::vector<unsigned int> tets_of_point;
+
+      Report last_report;
+    };
+  } // namespace Models
+} // namespace softface
+
+#endif

@@ -1,0 +1,110 @@
+#ifndef softface_models_mass_tensor_h
+#define softface_models_mass_tensor_h
+
+#include <deal.II/base/tensor.h>
+
+#include <softface/models/interface.h>
+
+#include <array>
+#include <vector>
+
+namespace softface
+{
+  namespace Models
+  {
+    /**
+     * The Mass Tensor Model of the seed (section 2.3, after Cotin et al.
+     * 2000). Every tetrahedron's linear-elastic stiffness (eqs. 6-8) is
+     * summed into one 3x3 tensor K_jj per point and one K_jk per edge
+     * (eqs. 9-10): exactly the 3x3 blocks of the linear FEM stiffness. Points
+     * are the mesh vertices in the order of the shared DoF layout (point p
+     * owns DoFs 3p, 3p+1, 3p+2).
+     *
+     * Extension 1 (2.3.2): the rest position is found point by point,
+     * u_j = -K_jj^-1 sum_k K_jk u_k (eq. 12) with K_jj^-1 precomputed, in
+     * Gauss-Seidel order (in place) or Jacobi order (all from the previous
+     * sweep); optionally relaxed (damped Jacobi, or SOR).
+     *
+     * Extension 2 (2.3.3): a point's gradient is the mean length of its
+     * last W updates (mm per sweep). A point stops once its gradient is below
+     * the threshold; with the active set, a sweep visits only points that
+     * have not stopped or whose neighbour moved by more than the threshold in
+     * the previous sweep (the only points whose force can have changed).
+     */
+    class MassTensor : public Interface
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm);
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      void
+      setup(const Scene &scene) override;
+      void
+      solve(const Vector<double> &prescribed,
+            Vector<double> &      displacement) override;
+
+      /// Set the solution scheme in code (tests, benchmarks).
+      void
+      set_scheme(const bool         gauss_seidel,
+                 const double       stop_gradient_threshold,
+                 const unsigned int gradient_window,
+                 const bool         active_set);
+      /// Relaxation factor of the updates (1: the seed's eq. 12).
+      void
+      set_relaxation(const double factor);
+      /// Also compute the converged answer and report the precision.
+      void
+      set_report_precision(const bool report);
+
+      unsigned int
+      n_points() const;
+      /// K_jk (K_jj for j == k); zero if j and k share no tetrahedron.
+      Tensor<2, 3>
+      tensor(const unsigned int j, const unsigned int k) const;
+
+      /// Seed Table 1 and the work done, for the last solve.
+      struct Report
+      {
+        unsigned int       sweeps        = 0;
+        unsigned long long point_updates = 0;
+        double             max_gradient  = 0.; ///< mm per sweep, at the end
+        /// Largest and mean distance (mm) of a free point to the converged
+        /// answer (the seed's "minimal" and mean precision); -1 if not
+        /// computed.
+        double precision_max  = -1.;
+        double precision_mean = -1.;
+      };
+      const Report &
+      report() const;
+
+    private:
+      using Block = std::array<double, 9>;
+
+      bool         gauss_seidel            = true;
+      double       relaxation              = 1.;
+      double       stop_gradient_threshold = 1e-3;
+      unsigned int gradient_window         = 10;
+      bool         use_active_set          = true;
+      unsigned int max_sweeps              = 100000;
+      double       convergence_tolerance   = 1e-9;
+      bool         report_precision        = false;
+
+      const Scene *scene = nullptr;
+
+      // Block-CSR: the neighbours of point j are neighbour[row_start[j] ..
+      // row_start[j+1]), with K_jk in coupling[...]; K_jj^-1 per point.
+      std::vector<unsigned int> row_start;
+      std::vector<unsigned int> neighbour;
+      std::vector<Block>        coupling;
+      std::vector<Block>        diagonal;
+      std::vector<Block>        diagonal_inverse;
+      std::vector<bool>         is_free;
+
+      Report last_report;
+    };
+  } // namespace Models
+} // namespace softface
+
+#endif

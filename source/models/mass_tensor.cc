@@ -1,0 +1,491 @@
+#include <deal.II/base/timer.h>
+
+#include <softface/error.h>
+#include <softface/linear_elasticity.h>
+#include <softface/models/linear_fem.h>
+#include <softface/models/mass_tensor.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace softface
+{
+  namespace Models
+  {
+    namespace
+    {
+      std::string
+      format(const double value, const int precision = 3)
+      {
+        std::ostringstream s;
+        s << std::setprecision(precision) << value;
+        return s.str();
+      }
+    } // namespace
+
+    void
+    MassTensor::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Ordering",
+                        "gauss-seidel",
+                        Patterns::Selection("gauss-seidel|jacobi"),
+                        "Order of the local updates (seed eq. 12): "
+                        "'gauss-seidel' uses every new value at once, "
+                        "'jacobi' only values from the previous sweep.");
+      prm.declare_entry("Relaxation factor",
+                        "1",
+                        Patterns::Double(0., 2.),
+                        "Each update moves a point by this factor times the "
+                        "change eq. 12 asks for. 1 is the seed's scheme; below "
+                        "1 damps Jacobi order (which diverges undamped on many "
+                        "meshes); above 1 over-relaxes Gauss-Seidel (SOR), "
+                        "which needs fewer sweeps for the same equations.");
+      prm.declare_entry("Stop gradient threshold",
+                        "0.001",
+                        Patterns::Double(0.),
+                        "A point stops when the mean length of its last "
+                        "'Gradient window' updates falls below this (mm per "
+                        "sweep; seed 2.3.3 and Table 1). 0 runs to full "
+                        "convergence ('Convergence tolerance').");
+      prm.declare_entry("Gradient window",
+                        "10",
+                        Patterns::Integer(1, 1000),
+                        "Number of a point's last updates whose mean is its "
+                        "gradient.");
+      prm.declare_entry("Active set",
+                        "true",
+                        Patterns::Bool(),
+                        "Visit only points whose force can have changed: "
+                        "those not yet stopped and the neighbours of points "
+                        "that moved by more than the threshold. false visits "
+                        "every free point in every sweep until all have "
+                        "stopped.");
+      prm.declare_entry("Maximum sweeps",
+                        "100000",
+                        Patterns::Integer(1),
+                        "A solve that needs more sweeps stops with an error "
+                        "stating the largest gradient reached.");
+      prm.declare_entry("Convergence tolerance",
+                        "1e-9",
+                        Patterns::Double(0.),
+                        "Gradient (mm per sweep) below which a point counts "
+                        "as converged when the stop threshold is 0.");
+      prm.declare_entry("Report precision",
+                        "false",
+                        Patterns::Bool(),
+                        "Also compute the fully converged answer of the same "
+                        "equations (by the sparse direct solver) and report "
+                        "the largest and mean distance of a free point to it "
+                        "(the seed's minimal and mean precision, Table 1).");
+    }
+
+    void
+    MassTensor::parse_parameters(ParameterHandler &prm)
+    {
+      gauss_seidel            = prm.get("Ordering") == "gauss-seidel";
+      relaxation              = prm.get_double("Relaxation factor");
+      stop_gradient_threshold = prm.get_double("Stop gradient threshold");
+      gradient_window         = prm.get_integer("Gradient window");
+      use_active_set          = prm.get_bool("Active set");
+      max_sweeps              = prm.get_integer("Maximum sweeps");
+      convergence_tolerance   = prm.get_double("Convergence tolerance");
+      report_precision        = prm.get_bool("Report precision");
+    }
+
+    void
+    MassTensor::set_scheme(const bool         gauss_seidel_order,
+                           const double       threshold,
+                           const unsigned int window,
+                           const bool         active_set)
+    {
+      gauss_seidel            = gauss_seidel_order;
+      stop_gradient_threshold = threshold;
+      gradient_window         = window;
+      use_active_set          = active_set;
+    }
+
+    void
+    MassTensor::set_relaxation(const double factor)
+    {
+      relaxation = factor;
+    }
+
+    void
+    MassTensor::set_report_precision(const bool report)
+    {
+      report_precision = report;
+    }
+
+    void
+    MassTensor::setup(const Scene &scene_in)
+    {
+      scene = &scene_in;
+      stats = Statistics();
+      Timer timer;
+
+      const unsigned int n = scene->dof_handler.n_dofs() / 3;
+      std::vector<std::array<unsigned int, 4>> cell_points;
+      cell_points.reserve(scene->triangulation.n_active_cells());
+      for (const auto &cell : scene->triangulation.active_cell_iterators())
+        {
+          std::array<unsigned int, 4> p;
+          for (unsigned int a = 0; a < 4; ++a)
+            {
+              const auto &dofs = scene->vertex_dofs()[cell->vertex_index(a)];
+              if (dofs[0] % 3 != 0 || dofs[1] != dofs[0] + 1 ||
+                  dofs[2] != dofs[0] + 2)
+                throw Error("mass tensor: the DoFs of a vertex are not a "
+                            "block 3p, 3p+1, 3p+2 (renumbered DoFs?).");
+              p[a] = dofs[0] / 3;
+            }
+          cell_points.push_back(p);
+        }
+
+      // Neighbours of every point, sorted, then the block-CSR structure.
+      std::vector<std::vector<unsigned int>> adjacent(n);
+      for (const auto &p : cell_points)
+        for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int b = 0; b < 4; ++b)
+            if (a != b)
+              adjacent[p[a]].push_back(p[b]);
+      row_start.assign(n + 1, 0);
+      neighbour.clear();
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          auto &a = adjacent[j];
+          std::sort(a.begin(), a.end());
+          a.erase(std::unique(a.begin(), a.end()), a.end());
+          neighbour.insert(neighbour.end(), a.begin(), a.end());
+          row_start[j + 1] = neighbour.size();
+          std::vector<unsigned int>().swap(a);
+        }
+
+      // seed eqs. 9-10: sum the tetrahedra's tensors per point and per edge.
+      coupling.assign(neighbour.size(), Block{});
+      diagonal.assign(n, Block{});
+      const double lambda = scene->material.lambda(), mu = scene->material.mu();
+      unsigned int c = 0;
+      for (const auto &cell : scene->triangulation.active_cell_iterators())
+        {
+          const auto &p = cell_points[c++];
+          const LinearElasticity::TetrahedronStiffness K =
+            LinearElasticity::tetrahedron_stiffness(
+              LinearElasticity::cell_vertices(cell), lambda, mu);
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int b = 0; b < 4; ++b)
+              {
+                Block *target = &diagonal[p[a]];
+                if (a != b)
+                  {
+                    const auto begin = neighbour.begin() + row_start[p[a]];
+                    const auto end   = neighbour.begin() + row_start[p[a] + 1];
+                    target =
+                      &coupling[std::lower_bound(begin, end, p[b]) -
+                                neighbour.begin()];
+                  }
+                for (unsigned int r = 0; r < 3; ++r)
+                  for (unsigned int s = 0; s < 3; ++s)
+                    (*target)[3 * r + s] += K[a][b][r][s];
+              }
+        }
+
+      diagonal_inverse.resize(n);
+      is_free.assign(n, false);
+      for (unsigned int j = 0; j < n; ++j)
+        {
+          Tensor<2, 3> D;
+          for (unsigned int r = 0; r < 3; ++r)
+            for (unsigned int s = 0; s < 3; ++s)
+              D[r][s] = diagonal[j][3 * r + s];
+          const Tensor<2, 3> D_inverse = invert(D);
+          for (unsigned int r = 0; r < 3; ++r)
+            for (unsigned int s = 0; s < 3; ++s)
+              diagonal_inverse[j][3 * r + s] = D_inverse[r][s];
+          is_free[j] = !scene->join_dofs()[3 * j];
+        }
+
+      stats.setup_time = timer.wall_time();
+      stats.phases.emplace_back("tensors", stats.setup_time);
+      stats.details.emplace_back(
+        "tensor memory",
+        format((neighbour.size() * (sizeof(Block) + sizeof(unsigned int)) +
+                n * 2 * sizeof(Block)) /
+                 1048576.,
+               3) +
+          " MB");
+    }
+
+    void
+    MassTensor::solve(const Vector<double> &prescribed,
+                      Vector<double> &      displacement)
+    {
+      Assert(scene != nullptr, ExcMessage("MassTensor::setup() first."));
+      Timer              timer;
+      const unsigned int n = diagonal.size();
+      const double threshold = stop_gradient_threshold > 0. ?
+                                 stop_gradient_threshold :
+                                 convergence_tolerance;
+      const unsigned int W = gradient_window;
+
+      displacement.reinit(3 * n);
+      for (unsigned int j = 0; j < n; ++j)
+        if (!is_free[j])
+          for (unsigned int c = 0; c < 3; ++c)
+            displacement[3 * j + c] = prescribed[3 * j + c];
+      double *const u = displacement.begin();
+      // No update of a converging scheme moves a point by more than the
+      // largest prescribed motion times a generous factor.
+      const double divergence_bound = 1e3 * (prescribed.linfty_norm() + 1.);
+
+      // Per point: its last W step lengths (a ring), their sum, its count.
+      std::vector<double>       steps(static_cast<std::size_t>(n) * W, 0.);
+      std::vector<double>       step_sum(n, 0.);
+      std::vector<unsigned int> n_updates(n, 0);
+      std::vector<unsigned int> queued_in(n, 0); // sweep a point is queued for
+
+      // The first sweep visits the free neighbours of join points that move.
+      std::vector<unsigned int> current, next;
+      for (unsigned int j = 0; j < n; ++j)
+        if (is_free[j])
+          {
+            bool touched = !use_active_set;
+            for (unsigned int i = row_start[j]; i < row_start[j + 1] && !touched;
+                 ++i)
+              {
+                const unsigned int k = neighbour[i];
+                touched = !is_free[k] && (u[3 * k] != 0. || u[3 * k + 1] != 0. ||
+                                          u[3 * k + 2] != 0.);
+              }
+            if (touched)
+              current.push_back(j);
+          }
+
+      std::vector<std::array<double, 3>> jacobi_values;
+      unsigned int                       sweep         = 0;
+      unsigned long long                 point_updates = 0;
+      bool                               done          = current.empty();
+      while (!done)
+        {
+          if (sweep == max_sweeps)
+            {
+              double g = 0.;
+              for (const unsigned int j : current)
+                g = std::max(g, step_sum[j] / W);
+              throw Error("mass tensor: " + std::to_string(max_sweeps) +
+                          " sweeps were not enough; " +
+                          std::to_string(current.size()) +
+                          " points are still active, largest gradient " +
+                          format(g) + " mm per sweep (threshold " +
+                          format(threshold) + ").");
+            }
+          ++sweep;
+          point_updates += current.size();
+          if (!gauss_seidel)
+            jacobi_values.resize(current.size());
+
+          bool all_stopped = true;
+          for (unsigned int q = 0; q < current.size(); ++q)
+            {
+              const unsigned int j = current[q];
+              // seed eq. 12: u_j = -K_jj^-1 sum_k K_jk u_k
+              double f0 = 0., f1 = 0., f2 = 0.;
+              for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+                {
+                  const double *B  = coupling[i].data();
+                  const double *uk = u + 3 * neighbour[i];
+                  f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
+                  f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
+                  f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
+                }
+              const double *D = diagonal_inverse[j].data();
+              double *      uj   = u + 3 * j;
+              const double  w    = relaxation;
+              const double  v[3] = {
+                uj[0] + w * (-(D[0] * f0 + D[1] * f1 + D[2] * f2) - uj[0]),
+                uj[1] + w * (-(D[3] * f0 + D[4] * f1 + D[5] * f2) - uj[1]),
+                uj[2] + w * (-(D[6] * f0 + D[7] * f1 + D[8] * f2) - uj[2])};
+              const double  step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
+                                            (v[1] - uj[1]) * (v[1] - uj[1]) +
+                                            (v[2] - uj[2]) * (v[2] - uj[2]));
+              if (!(step <= divergence_bound))
+                throw Error(
+                  "mass tensor (" +
+                  std::string(gauss_seidel ? "gauss-seidel" : "jacobi") +
+                  "): the local updates diverge (a point moved by " +
+                  format(step) + " mm in sweep " + std::to_string(sweep) +
+                  "). Jacobi order does not converge for every mesh and "
+                  "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
+                  "'Relaxation factor' below 1.");
+              if (gauss_seidel)
+                uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
+              else
+                jacobi_values[q] = {{v[0], v[1], v[2]}};
+
+              // seed 2.3.3: the gradient over the point's last W updates.
+              double &slot = steps[static_cast<std::size_t>(j) * W +
+                                  n_updates[j] % W];
+              step_sum[j] += step - slot;
+              slot = step;
+              ++n_updates[j];
+              const bool stopped =
+                n_updates[j] >= W && step_sum[j] / W < threshold;
+              all_stopped &= stopped;
+
+              if (!use_active_set)
+                continue;
+              if (!stopped && queued_in[j] != sweep + 1)
+                {
+                  queued_in[j] = sweep + 1;
+                  next.push_back(j);
+                }
+              if (step > threshold)
+                for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+                  {
+                    const unsigned int k = neighbour[i];
+                    if (is_free[k] && queued_in[k] != sweep + 1)
+                      {
+                        queued_in[k] = sweep + 1;
+                        next.push_back(k);
+                      }
+                  }
+            }
+          if (!gauss_seidel)
+            for (unsigned int q = 0; q < current.size(); ++q)
+              for (unsigned int c = 0; c < 3; ++c)
+                u[3 * current[q] + c] = jacobi_values[q][c];
+
+          if (use_active_set)
+            {
+              current.swap(next);
+              next.clear();
+              done = current.empty();
+            }
+          else
+            done = all_stopped;
+        }
+      const double sweep_time = timer.wall_time();
+
+      // Residual force on the free points against the force at the start.
+      double residual = 0., initial = 0.;
+      for (unsigned int j = 0; j < n; ++j)
+        if (is_free[j])
+          {
+            double r[3] = {0., 0., 0.}, f[3] = {0., 0., 0.};
+            for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+              {
+                const double *B  = coupling[i].data();
+                const double *uk = u + 3 * neighbour[i];
+                for (unsigned int a = 0; a < 3; ++a)
+                  {
+                    const double t =
+                      B[3 * a] * uk[0] + B[3 * a + 1] * uk[1] + B[3 * a + 2] * uk[2];
+                    r[a] += t;
+                    if (!is_free[neighbour[i]])
+                      f[a] += t;
+                  }
+              }
+            const double *B  = diagonal[j].data();
+            const double *uj = u + 3 * j;
+            for (unsigned int a = 0; a < 3; ++a)
+              {
+                r[a] += B[3 * a] * uj[0] + B[3 * a + 1] * uj[1] + B[3 * a + 2] * uj[2];
+                residual += r[a] * r[a];
+                initial += f[a] * f[a];
+              }
+          }
+
+      last_report               = Report();
+      last_report.sweeps        = sweep;
+      last_report.point_updates = point_updates;
+      for (unsigned int j = 0; j < n; ++j)
+        if (is_free[j] && n_updates[j] > 0)
+          last_report.max_gradient =
+            std::max(last_report.max_gradient,
+                     step_sum[j] / std::min(n_updates[j], W));
+
+      stats.iterations = sweep;
+      stats.residual   = initial > 0. ? std::sqrt(residual / initial) : 0.;
+      stats.solve_time = timer.wall_time();
+      stats.details.resize(1); // keep the tensor memory from setup()
+      stats.details.emplace_back("point updates", std::to_string(point_updates));
+      stats.details.emplace_back(
+        "ns per update",
+        format(point_updates ? 1e9 * sweep_time / point_updates : 0., 3));
+      stats.details.emplace_back("max gradient",
+                                 format(last_report.max_gradient, 3) +
+                                   " mm/sweep");
+
+      if (report_precision)
+        {
+          Timer     reference_timer;
+          LinearFEM reference_model;
+          reference_model.set_solver("direct", 0.);
+          reference_model.setup(*scene);
+          Vector<double> reference;
+          reference_model.solve(prescribed, reference);
+          double       max = 0., sum = 0.;
+          unsigned int n_free = 0;
+          for (unsigned int j = 0; j < n; ++j)
+            if (is_free[j])
+              {
+                double d = 0.;
+                for (unsigned int c = 0; c < 3; ++c)
+                  d += std::pow(u[3 * j + c] - reference[3 * j + c], 2);
+                d = std::sqrt(d);
+                max = std::max(max, d);
+                sum += d;
+                ++n_free;
+              }
+          last_report.precision_max  = max;
+          last_report.precision_mean = n_free ? sum / n_free : 0.;
+          stats.details.emplace_back("precision max",
+                                     format(max, 3) + " mm");
+          stats.details.emplace_back(
+            "precision mean", format(last_report.precision_mean, 3) + " mm");
+          stats.details.emplace_back("reference s",
+                                     format(reference_timer.wall_time(), 3));
+        }
+    }
+
+    unsigned int
+    MassTensor::n_points() const
+    {
+      return diagonal.size();
+    }
+
+    Tensor<2, 3>
+    MassTensor::tensor(const unsigned int j, const unsigned int k) const
+    {
+      const Block *block = nullptr;
+      if (j == k)
+        block = &diagonal[j];
+      else
+        {
+          const auto begin = neighbour.begin() + row_start[j];
+          const auto end   = neighbour.begin() + row_start[j + 1];
+          const auto it    = std::lower_bound(begin, end, k);
+          if (it != end && *it == k)
+            block = &coupling[it - neighbour.begin()];
+        }
+      Tensor<2, 3> K;
+      if (block != nullptr)
+        for (unsigned int r = 0; r < 3; ++r)
+          for (unsigned int s = 0; s < 3; ++s)
+            K[r][s] = (*block)[3 * r + s];
+      return K;
+    }
+
+    const MassTensor::Report &
+    MassTensor::report() const
+    {
+      return last_report;
+    }
+
+    SOFTFACE_REGISTER_MODEL(MassTensor,
+                            "mass tensor",
+                            "Cotin's mass tensor model with the seed's static "
+                            "local update (2.3.2) and local dynamic stop "
+                            "criterion with active set (2.3.3).")
+  } // namespace Models
+} // namespace softface
