@@ -29,6 +29,15 @@ namespace softface
                         "A point never moves by more than this fraction of its "
                         "shortest spring in one update, so that no spring "
                         "flips.");
+      prm.declare_entry("Prevent inversion",
+                        "false",
+                        Patterns::Bool(),
+                        "true halves a step that would turn a tetrahedron "
+                        "inside out (up to 8 times, else skips it) and makes "
+                        "any inversion an error. false is the seed's model: "
+                        "springs may flip over where the equilibrium of the "
+                        "springs asks for it; the inverted tetrahedra are "
+                        "counted and reported with a warning.");
       prm.declare_entry("Maximum sweeps",
                         "200000",
                         Patterns::Integer(1),
@@ -42,12 +51,19 @@ namespace softface
       stop_threshold    = prm.get_double("Stop threshold");
       max_step_fraction = prm.get_double("Maximum step fraction");
       max_sweeps        = prm.get_integer("Maximum sweeps");
+      prevent_inversion = prm.get_bool("Prevent inversion");
     }
 
     void
     MassSpring::set_stop_threshold(const double threshold_mm)
     {
       stop_threshold = threshold_mm;
+    }
+
+    void
+    MassSpring::set_prevent_inversion(const bool prevent)
+    {
+      prevent_inversion = prevent;
     }
 
     void
@@ -261,7 +277,7 @@ namespace softface
                   // invert one is halved until it does not, or not taken.
                   const Point<3> old = x[j];
                   unsigned int   halvings = 0;
-                  for (; halvings < 8; ++halvings, step *= 0.5)
+                  for (; halvings < 8 && prevent_inversion; ++halvings, step *= 0.5)
                     {
                       x[j]           = old + step;
                       bool inverted = false;
@@ -276,7 +292,9 @@ namespace softface
                       if (!inverted)
                         break;
                     }
-                  if (halvings == 8)
+                  if (!prevent_inversion)
+                    x[j] = old + step;
+                  else if (halvings == 8)
                     {
                       x[j] = old;
                       ++blocked_updates;
@@ -293,6 +311,16 @@ namespace softface
                         queued_in[k] = sweep + 1, next.push_back(k);
                     }
                 }
+              // Memory order, as in the mass tensor model.
+              if (next.size() > n / 32)
+                {
+                  next.clear();
+                  for (unsigned int j = 0; j < n; ++j)
+                    if (queued_in[j] == sweep + 1)
+                      next.push_back(j);
+                }
+              else
+                std::sort(next.begin(), next.end());
               current.swap(next);
               next.clear();
             }
@@ -335,8 +363,15 @@ namespace softface
       stats.details.emplace_back(
         "inverted tetrahedra", std::to_string(last_report.inverted_tetrahedra));
       last_report.blocked_updates = blocked_updates;
-      if (last_report.inverted_tetrahedra > 0 ||
-          last_report.max_step > stop_threshold)
+      if (!prevent_inversion && last_report.inverted_tetrahedra > 0 &&
+          last_report.max_step <= stop_threshold)
+        std::cerr << "softface: warning: mass spring reached equilibrium with "
+                  << last_report.inverted_tetrahedra
+                  << " inverted tetrahedra (springs flipped over, seed 2.2); "
+                     "the answer is not physical there."
+                  << std::endl;
+      else if (last_report.inverted_tetrahedra > 0 ||
+               last_report.max_step > stop_threshold)
         {
           std::ostringstream m;
           m << "mass spring: no equilibrium reached after " << sweep

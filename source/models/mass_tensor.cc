@@ -357,6 +357,19 @@ namespace softface
 
           if (use_active_set)
             {
+              // Visit the next sweep's points in memory order: neighbouring
+              // points share cache lines, which matters once the tensors no
+              // longer fit in cache. A long list is rebuilt by scanning the
+              // marks, a short one sorted.
+              if (next.size() > n / 32)
+                {
+                  next.clear();
+                  for (unsigned int j = 0; j < n; ++j)
+                    if (queued_in[j] == sweep + 1)
+                      next.push_back(j);
+                }
+              else
+                std::sort(next.begin(), next.end());
               current.swap(next);
               next.clear();
               done = current.empty();

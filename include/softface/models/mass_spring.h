@@ -22,11 +22,13 @@ namespace softface
      * shortest spring (so no spring can flip in one step), updated in place.
      * Dynamic cut-out: a sweep visits only the neighbours of points that
      * moved, and a point moves only while its step, |F_i| / sum k, exceeds
-     * the threshold. A step that would invert a tetrahedron is halved until
-     * it does not (at most 8 times, else not taken). The join points' motion is applied in load steps no
+     * the threshold. Optionally ("Prevent inversion"), a step that would
+     * invert a tetrahedron is halved until it does not (at most 8 times,
+     * else not taken). The join points' motion is applied in load steps no
      * longer than the step bound of their shortest spring, so that a moving
      * bone cannot jump past its free neighbours. At the end, inverted
-     * direction) and inverted tetrahedra are counted and reported.
+     * tetrahedra (a spring that flips over inverts the tetrahedra around it)
+     * are counted and reported.
      */
     class MassSpring : public Interface
     {
@@ -44,6 +46,8 @@ namespace softface
 
       void
       set_stop_threshold(const double threshold_mm);
+      void
+      set_prevent_inversion(const bool prevent);
 
       struct Spring
       {
@@ -74,6 +78,7 @@ namespace softface
       double       stop_threshold = 1e-3;
       double       max_step_fraction = 0.25;
       unsigned int max_sweeps     = 200000;
+      bool         prevent_inversion = false;
 
       const Scene *scene = nullptr;
       std::vector<Spring> spring_list;
