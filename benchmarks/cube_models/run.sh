@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Linear FEM (cg amg), mass tensor and mass spring side by side in one softface
+# run per mesh, on the seed's 6 mm cube at about 30k, 100k, 200k and 500k
+# tetrahedra. Writes doc/results/cube_models.{md,csv,png}.
+#
+#   benchmarks/cube_models/run.sh [--quick]     (--quick: 30k and 100k only)
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+softface=${SOFTFACE:-$root/build/softface}
+results=$root/doc/results
+work=$root/build/benchmarks/cube_models
+[ -x "$softface" ] || { echo "build softface first (./run.sh or ./test.sh)"; exit 1; }
+
+sizes="30000 100000 200000 500000"
+[ "${1:-}" = "--quick" ] && sizes="30000 100000"
+
+mkdir -p "$work" "$results"
+csv=$work/cube_models.csv
+echo "model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,iterations,max_displacement_mm,max_diff_to_linear_fem_mm,mean_diff_to_linear_fem_mm,details" > "$csv"
+n=$(echo $sizes | wc -w); i=0; start=$(date +%s)
+for tets in $sizes; do
+  i=$((i + 1))
+  echo "[$i/$n] $tets tetrahedra (elapsed $(( $(date +%s) - start )) s)"
+  sed -e "s/@TETS@/$tets/" -e "s|@OUTPUT@|$work/$tets|" "$here/cube.prm.in" > "$work/$tets.prm"
+  "$softface" "$work/$tets.prm" > "$work/$tets.log" 2>&1 || echo "  (a model failed: see $work/$tets.log)"
+  tail -n +2 "$work/$tets/summary.csv" | while IFS= read -r row; do
+    model=${row%%,*}
+    details=$(sed -n "s/^$model details: *//p" "$work/$tets.log" | sed 's/  */ /g; s/,/;/g')
+    warning=$(grep -o "with [0-9]* inverted tetrahedra" "$work/$tets.log" | head -1 || true)
+    [ "$model" = "mass spring" ] && [ -n "$warning" ] && details="$details; warning: ended $warning"
+    echo "$row,$details" >> "$csv"
+  done
+done
+cp "$csv" "$results/cube_models.csv"
+/usr/bin/python3 "$here/report.py" "$results/cube_models.csv" "$results" "$0 $*"
+echo "wrote $results/cube_models.md, cube_models.csv, cube_models.png"
