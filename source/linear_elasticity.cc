@@ -71,41 +71,59 @@ namespace softface
       const double lambda = scene.material.lambda();
       const double mu     = scene.material.mu();
 
+      std::array<types::global_dof_index, 12> dofs;
+      stiffness = 0;
+      for (const auto &cell : scene.triangulation.active_cell_iterators())
+        {
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
+          add_cell_matrix(dofs,
+                          tetrahedron_stiffness(cell_vertices(cell), lambda, mu),
+                          stiffness);
+        }
+    }
+
+    void
+    add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
+                    const TetrahedronStiffness &                   K,
+                    SparseMatrix<double> &                         matrix)
+    {
       // Adding a row with sorted column indices lets SparseMatrix merge it
       // into the row instead of searching for each entry: the sort is done
       // once per cell and serves all twelve rows.
       std::array<unsigned int, 12>            order;
-      std::array<types::global_dof_index, 12> dofs, sorted_dofs;
+      std::array<types::global_dof_index, 12> sorted_dofs;
       std::array<double, 12>                  row_values;
-      stiffness = 0;
-      for (const auto &cell : scene.triangulation.active_cell_iterators())
-        {
-          const TetrahedronStiffness K =
-            tetrahedron_stiffness(cell_vertices(cell), lambda, mu);
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
-          std::iota(order.begin(), order.end(), 0u);
-          std::sort(order.begin(), order.end(), [&](unsigned int p,
-                                                    unsigned int q) {
-            return dofs[p] < dofs[q];
-          });
-          for (unsigned int k = 0; k < 12; ++k)
-            sorted_dofs[k] = dofs[order[k]];
+      std::iota(order.begin(), order.end(), 0u);
+      std::sort(order.begin(), order.end(), [&](unsigned int p, unsigned int q) {
+        return dofs[p] < dofs[q];
+      });
+      for (unsigned int k = 0; k < 12; ++k)
+        sorted_dofs[k] = dofs[order[k]];
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            for (unsigned int k = 0; k < 12; ++k)
+              row_values[k] = K[a][order[k] / 3][i][order[k] % 3];
+            matrix.add(dofs[3 * a + i],
+                       12,
+                       sorted_dofs.data(),
+                       row_values.data(),
+                       /*elide_zero_values=*/false,
+                       /*col_indices_are_sorted=*/true);
+          }
+    }
 
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              {
-                for (unsigned int k = 0; k < 12; ++k)
-                  row_values[k] = K[a][order[k] / 3][i][order[k] % 3];
-                stiffness.add(dofs[3 * a + i],
-                              12,
-                              sorted_dofs.data(),
-                              row_values.data(),
-                              /*elide_zero_values=*/false,
-                              /*col_indices_are_sorted=*/true);
-              }
-        }
+    void
+    eliminate_join_dofs(const std::vector<bool> &is_join,
+                        SparseMatrix<double> &   matrix)
+    {
+      for (unsigned int row = 0; row < matrix.m(); ++row)
+        for (auto entry = matrix.begin(row); entry != matrix.end(row); ++entry)
+          if ((is_join[row] || is_join[entry->column()]) &&
+              entry->column() != row)
+            entry->value() = 0.;
     }
   } // namespace LinearElasticity
 } // namespace softface

@@ -47,6 +47,16 @@ namespace softface
   SparseCholesky::factorize(const SparseMatrix<double> &matrix)
   {
     clear();
+    if (!refactorize(matrix))
+      throw Error("direct solver: the Cholesky factorisation failed (CHOLMOD "
+                  "status " +
+                  std::to_string(as_common(common)->status) +
+                  "); the matrix is not positive definite or memory ran out.");
+  }
+
+  bool
+  SparseCholesky::refactorize(const SparseMatrix<double> &matrix)
+  {
     const SparsityPattern &pattern = matrix.get_sparsity_pattern();
     const std::size_t      n       = matrix.m();
 
@@ -83,17 +93,22 @@ namespace softface
       }
     column_start[n] = k;
 
-    cholmod_factor *L = cholmod_analyze(A, as_common(common));
-    const bool      ok =
-      (L != nullptr) && cholmod_factorize(A, L, as_common(common)) &&
-      as_common(common)->status == CHOLMOD_OK;
+    // The fill-reducing ordering and symbolic factor depend only on the
+    // pattern: computed once, reused by every later factorisation (Newton).
+    if (factor == nullptr || n != n_rows || n_lower != n_entries)
+      {
+        clear();
+        factor    = cholmod_analyze(A, as_common(common));
+        n_rows    = n;
+        n_entries = n_lower;
+      }
+    const bool ok = (factor != nullptr) &&
+                    cholmod_factorize(A,
+                                      static_cast<cholmod_factor *>(factor),
+                                      as_common(common)) &&
+                    as_common(common)->status == CHOLMOD_OK;
     cholmod_free_sparse(&A, as_common(common));
-    factor = L;
-    if (!ok)
-      throw Error("direct solver: the Cholesky factorisation failed (CHOLMOD "
-                  "status " +
-                  std::to_string(as_common(common)->status) +
-                  "); the matrix is not positive definite or memory ran out.");
+    return ok;
   }
 
   void

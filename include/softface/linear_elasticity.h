@@ -40,6 +40,21 @@ namespace softface
     void
     make_sparsity_pattern(const Scene &scene, SparsityPattern &sparsity);
 
+    /// Add a 12x12 cell matrix (blocks K[a][b]) at the DoFs of its vertices.
+    void
+    add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
+                    const TetrahedronStiffness &                   K,
+                    SparseMatrix<double> &                         matrix);
+
+    /**
+     * Eliminate the join DoFs symmetrically: zero their rows and columns,
+     * keep the diagonal. The matrix stays SPD if it was, and no longer
+     * depends on where the join points move.
+     */
+    void
+    eliminate_join_dofs(const std::vector<bool> &is_join,
+                        SparseMatrix<double> &   matrix);
+
     /// The unconstrained global stiffness matrix (sparsity already set).
     void
     assemble_stiffness(const Scene &scene, SparseMatrix<double> &stiffness);

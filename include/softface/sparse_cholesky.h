@@ -30,6 +30,14 @@ namespace softface
     void
     factorize(const SparseMatrix<double> &matrix);
 
+    /**
+     * Factorise a matrix with the same pattern as the last one again,
+     * reusing the ordering and symbolic analysis. Returns false (instead of
+     * throwing) if the matrix is not positive definite.
+     */
+    bool
+    refactorize(const SparseMatrix<double> &matrix);
+
     /// x = A^-1 b
     void
     solve(const Vector<double> &b, Vector<double> &x) const;
@@ -43,8 +51,10 @@ namespace softface
 
   private:
     // CHOLMOD's types stay out of this header.
-    void *common;
-    void *factor;
+    void *      common;
+    void *      factor;
+    std::size_t n_rows    = 0;
+    std::size_t n_entries = 0;
   };
 } // namespace softface
 
