@@ -13,6 +13,7 @@
 #include <softface/scene.h>
 #include <softface/simulator.h>
 
+#include "peer.h"
 #include "scenes.h"
 #include "tests.h"
 
@@ -21,71 +22,6 @@
 
 using namespace softface;
 
-namespace
-{
-  // Vertices binned on a 1 mm grid; a point is matched to the nearest vertex
-  // in its own and the neighbouring bins (the CSV rounds coordinates to 12
-  // significant digits, so exact keys could fall on either side of a bin).
-  using Bin = std::array<long long, 3>;
-
-  Bin
-  bin_of(const Point<3> &x)
-  {
-    return {{static_cast<long long>(std::floor(x[0])),
-             static_cast<long long>(std::floor(x[1])),
-             static_cast<long long>(std::floor(x[2]))}};
-  }
-
-  // The peer's CSV as a vector on the scene's DoF layout.
-  Vector<double>
-  read_peer(const Scene &scene, const std::string &filename)
-  {
-    std::map<Bin, std::vector<unsigned int>> vertices_in;
-    const auto &vertices = scene.triangulation.get_vertices();
-    for (unsigned int v = 0; v < vertices.size(); ++v)
-      if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
-        vertices_in[bin_of(vertices[v])].push_back(v);
-    const auto nearest = [&](const Point<3> &x) {
-      unsigned int best = numbers::invalid_unsigned_int;
-      const Bin    b    = bin_of(x);
-      for (long long i = -1; i <= 1; ++i)
-        for (long long j = -1; j <= 1; ++j)
-          for (long long k = -1; k <= 1; ++k)
-            {
-              const auto bin = vertices_in.find({{b[0] + i, b[1] + j, b[2] + k}});
-              if (bin != vertices_in.end())
-                for (const unsigned int v : bin->second)
-                  if (best == numbers::invalid_unsigned_int ||
-                      x.distance(vertices[v]) < x.distance(vertices[best]))
-                    best = v;
-            }
-      AssertThrow(best != numbers::invalid_unsigned_int &&
-                    x.distance(vertices[best]) < 1e-6,
-                  ExcMessage("peer vertex not in the mesh"));
-      return best;
-    };
-
-    Vector<double> u(scene.dof_handler.n_dofs());
-    std::ifstream  in(filename);
-    AssertThrow(in, ExcMessage("cannot open " + filename));
-    std::string  line;
-    unsigned int n_matched = 0;
-    std::getline(in, line); // header
-    while (std::getline(in, line))
-      {
-        const auto values =
-          Utilities::string_to_double(Utilities::split_string_list(line));
-        const unsigned int v =
-          nearest(Point<3>(values[0], values[1], values[2]));
-        for (unsigned int c = 0; c < 3; ++c)
-          u[scene.vertex_dofs()[v][c]] = values[3 + c];
-        ++n_matched;
-      }
-    AssertThrow(n_matched == scene.n_vertices(),
-                ExcMessage("the peer file does not cover every vertex"));
-    return u;
-  }
-} // namespace
 
 SOFTFACE_TEST(peer_calculix_cube30k)
 {
@@ -102,11 +38,11 @@ SOFTFACE_TEST(peer_calculix_cube30k)
           << scene.n_join_vertices(1) << " bone" << std::endl;
 
   const Vector<double> linear =
-    read_peer(scene,
+    softface_tests::read_peer(scene,
               softface_tests::source_file(
                 "data/cube30k/calculix_lin_displacements.csv"));
   const Vector<double> nonlinear =
-    read_peer(scene,
+    softface_tests::read_peer(scene,
               softface_tests::source_file(
                 "data/cube30k/calculix_nl_displacements.csv"));
   const Vector<double> prescribed = planning.prescribed_displacement(scene);

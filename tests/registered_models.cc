@@ -14,7 +14,8 @@ SOFTFACE_TEST(registered_models)
   const auto names = Models::registered_names();
   for (const auto &name : names)
     deallog << name << std::endl;
-  for (const std::string name : {"linear fem", "mass spring", "mass tensor"})
+  for (const std::string name :
+       {"linear fem", "mass spring", "mass tensor", "nonlinear fem"})
     softface_tests::check(std::count(names.begin(), names.end(), name) == 1,
                           name + " is registered once");
 }

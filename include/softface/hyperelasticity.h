@@ -1,0 +1,64 @@
+#ifndef softface_hyperelasticity_h
+#define softface_hyperelasticity_h
+
+#include <deal.II/base/tensor.h>
+
+#include <softface/linear_elasticity.h>
+
+#include <array>
+#include <string>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Large-deformation elasticity on P1 tetrahedra (seed 2.1, "the full
+   * Green-Lagrange tensor"): the deformation gradient F = I + grad u is
+   * constant per tetrahedron, so the nodal forces f_a = V P(F) grad N_a and
+   * their derivatives (the consistent tangent) have closed forms.
+   */
+  namespace Hyperelasticity
+  {
+    enum class Law
+    {
+      /// S = lambda tr(E) I + 2 mu E with E = (F^T F - I) / 2: what
+      /// CalculiX solves for *ELASTIC with NLGEOM; softens under strong
+      /// compression.
+      st_venant_kirchhoff,
+      /// W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2: stiffens under
+      /// compression, so it can follow motions that crush tissue.
+      neo_hooke
+    };
+
+    /// "st venant-kirchhoff" or "neo-hooke".
+    Law
+    law_from_name(const std::string &name);
+
+    /// What one tetrahedron contributes at a displacement.
+    struct CellResponse
+    {
+      double                                  energy = 0.;
+      std::array<Tensor<1, 3>, 4>             force;   ///< f_a = V P grad N_a
+      LinearElasticity::TetrahedronStiffness tangent; ///< d f_a / d u_b
+    };
+
+    /**
+     * Forces (and, if @p with_tangent, the tangent) of a tetrahedron with
+     * reference shape gradients @p grad and volume @p volume at vertex
+     * displacements @p u. Returns false, leaving @p response unspecified,
+     * if det F <= 0 (the tetrahedron is inverted).
+     */
+    bool
+    cell_response(const Law                          law,
+                  const double                       lambda,
+                  const double                       mu,
+                  const std::array<Tensor<1, 3>, 4> &grad,
+                  const double                       volume,
+                  const std::array<Tensor<1, 3>, 4> &u,
+                  const bool                         with_tangent,
+                  CellResponse &                     response);
+  } // namespace Hyperelasticity
+} // namespace softface
+
+#endif

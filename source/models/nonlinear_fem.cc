@@ -1,0 +1,424 @@
+#include <deal.II/base/timer.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/solver_gmres.h>
+
+#include <softface/elasticity_amg.h>
+#include <softface/error.h>
+#include <softface/linear_elasticity.h>
+#include <softface/mesh.h>
+#include <softface/models/nonlinear_fem.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace softface
+{
+  namespace Models
+  {
+    void
+    NonlinearFEM::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Material law",
+                        "neo-hooke",
+                        Patterns::Selection("st venant-kirchhoff|neo-hooke"),
+                        "'st venant-kirchhoff' (the seed's, and CalculiX's "
+                        "*ELASTIC with NLGEOM; softens under strong "
+                        "compression) or compressible 'neo-hooke' (stiffens "
+                        "under compression). Lame parameters from Young's "
+                        "modulus and Poisson's ratio as for the linear models.");
+      prm.declare_entry("Solver",
+                        "cg amg",
+                        Patterns::Selection("direct|cg amg|gmres amg"),
+                        "Linear solver of each Newton iteration: 'direct' "
+                        "(CHOLMOD, ordering reused), 'cg amg' or 'gmres amg' "
+                        "(Trilinos ML on the linear stiffness, built once).");
+      prm.declare_entry("Initial load increment",
+                        "1",
+                        Patterns::Double(0., 1.),
+                        "Fraction of the planned motion tried in the first "
+                        "load step; later steps grow after quick convergence "
+                        "and are halved after a failure.");
+      prm.declare_entry("Minimum load increment",
+                        "0.001",
+                        Patterns::Double(0., 1.),
+                        "A step that still fails at this increment ends the "
+                        "solve with an error giving the load reached, the "
+                        "residual and the reason.");
+      prm.declare_entry("Maximum Newton iterations",
+                        "20",
+                        Patterns::Integer(1),
+                        "Newton iterations per load step before it counts as "
+                        "failed.");
+      prm.declare_entry("Residual tolerance",
+                        "1e-10",
+                        Patterns::Double(0., 1.),
+                        "Newton stops when the free DoFs' residual force is "
+                        "below this fraction of the largest unbalanced force "
+                        "a load step started with.");
+      prm.declare_entry("Linear tolerance",
+                        "1e-6",
+                        Patterns::Double(0., 1.),
+                        "Relative residual of the iterative linear solves "
+                        "inside Newton.");
+    }
+
+    void
+    NonlinearFEM::parse_parameters(ParameterHandler &prm)
+    {
+      law                   = Hyperelasticity::law_from_name(prm.get("Material law"));
+      solver_name           = prm.get("Solver");
+      initial_increment     = prm.get_double("Initial load increment");
+      minimum_increment     = prm.get_double("Minimum load increment");
+      max_newton_iterations = prm.get_integer("Maximum Newton iterations");
+      residual_tolerance    = prm.get_double("Residual tolerance");
+      linear_tolerance      = prm.get_double("Linear tolerance");
+      if (!(initial_increment > 0.))
+        throw Error("nonlinear fem: 'Initial load increment' must be positive.");
+    }
+
+    void
+    NonlinearFEM::set_options(const std::string &law_name,
+                              const std::string &solver,
+                              const double       increment)
+    {
+      law               = Hyperelasticity::law_from_name(law_name);
+      solver_name       = solver;
+      initial_increment = increment;
+    }
+
+    void
+    NonlinearFEM::setup(const Scene &scene_in)
+    {
+      scene = &scene_in;
+      stats = Statistics();
+      Timer timer;
+
+      // Reference shape gradients and volume of every tetrahedron.
+      cell_dofs.clear();
+      cell_gradients.clear();
+      cell_volumes.clear();
+      for (const auto &cell : scene->triangulation.active_cell_iterators())
+        {
+          const auto   x = LinearElasticity::cell_vertices(cell);
+          Tensor<2, 3> J;
+          for (unsigned int k = 0; k < 3; ++k)
+            for (unsigned int d = 0; d < 3; ++d)
+              J[d][k] = x[k + 1][d] - x[0][d];
+          const Tensor<2, 3>          J_inverse = invert(J);
+          std::array<Tensor<1, 3>, 4> grad;
+          for (unsigned int a = 1; a < 4; ++a)
+            grad[a] = J_inverse[a - 1];
+          grad[0] = -(grad[1] + grad[2] + grad[3]);
+          cell_gradients.push_back(grad);
+          cell_volumes.push_back(determinant(J) / 6.);
+          std::array<types::global_dof_index, 12> dofs;
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              dofs[3 * a + i] = scene->vertex_dofs()[cell->vertex_index(a)][i];
+          cell_dofs.push_back(dofs);
+        }
+
+      LinearElasticity::make_sparsity_pattern(*scene, sparsity);
+      tangent.reinit(sparsity);
+      if (solver_name != "direct")
+        {
+          // The preconditioner is built once, on the linear stiffness (the
+          // tangent at rest): close enough to every later tangent.
+          LinearElasticity::assemble_stiffness(*scene, tangent);
+          LinearElasticity::eliminate_join_dofs(scene->join_dofs(), tangent);
+          amg_matrix.reinit(tangent);
+          initialize_elasticity_amg(*scene, amg_matrix, 0.02, 2, amg);
+        }
+      stats.setup_time = timer.wall_time();
+      stats.phases.emplace_back("setup", stats.setup_time);
+    }
+
+    bool
+    NonlinearFEM::evaluate(const Vector<double> &u,
+                           Vector<double> &      forces,
+                           SparseMatrix<double> *tangent_matrix) const
+    {
+      const double lambda = scene->material.lambda(), mu = scene->material.mu();
+      forces.reinit(u.size());
+      if (tangent_matrix != nullptr)
+        *tangent_matrix = 0;
+      Hyperelasticity::CellResponse response;
+      std::array<Tensor<1, 3>, 4>   u_cell;
+      for (unsigned int c = 0; c < cell_dofs.size(); ++c)
+        {
+          const auto &dofs = cell_dofs[c];
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              u_cell[a][i] = u[dofs[3 * a + i]];
+          if (!Hyperelasticity::cell_response(law,
+                                              lambda,
+                                              mu,
+                                              cell_gradients[c],
+                                              cell_volumes[c],
+                                              u_cell,
+                                              tangent_matrix != nullptr,
+                                              response))
+            return false;
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              forces[dofs[3 * a + i]] += response.force[a][i];
+          if (tangent_matrix != nullptr)
+            LinearElasticity::add_cell_matrix(dofs,
+                                              response.tangent,
+                                              *tangent_matrix);
+        }
+      return true;
+    }
+
+    double
+    NonlinearFEM::free_norm(const Vector<double> &v) const
+    {
+      double sum = 0.;
+      for (unsigned int i = 0; i < v.size(); ++i)
+        if (!scene->join_dofs()[i])
+          sum += v[i] * v[i];
+      return std::sqrt(sum);
+    }
+
+    bool
+    NonlinearFEM::linear_solve(const Vector<double> &rhs,
+                               Vector<double> &      solution,
+                               std::string &         reason)
+    {
+      Timer timer;
+      solution.reinit(rhs.size());
+      bool ok = true;
+      if (solver_name == "direct")
+        {
+          ok = cholesky.refactorize(tangent);
+          if (ok)
+            cholesky.solve(rhs, solution);
+          else
+            reason = "the tangent is not positive definite";
+          ++last_report.linear_iterations;
+        }
+      else
+        {
+          SolverControl control(2000, linear_tolerance * rhs.l2_norm(), false, false);
+          try
+            {
+              if (solver_name == "cg amg")
+                {
+                  SolverCG<Vector<double>> cg(control);
+                  cg.solve(tangent, solution, rhs, amg);
+                }
+              else
+                {
+                  SolverGMRES<Vector<double>> gmres(
+                    control, SolverGMRES<Vector<double>>::AdditionalData(52));
+                  gmres.solve(tangent, solution, rhs, amg);
+                }
+            }
+          catch (const std::exception &e)
+            {
+              ok     = false;
+              reason = solver_name + " did not converge (" +
+                       std::to_string(control.last_step()) + " iterations)";
+            }
+          last_report.linear_iterations += control.last_step();
+        }
+      time_linear += timer.wall_time();
+      return ok;
+    }
+
+    NonlinearFEM::StepResult
+    NonlinearFEM::newton(Vector<double> &u, const Vector<double> &target)
+    {
+      const std::vector<bool> &is_join = scene->join_dofs();
+      const unsigned int       n       = u.size();
+      StepResult               result;
+
+      // The first iteration carries the join points to the step's target.
+      Vector<double> join_increment(n);
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          join_increment[i] = target[i] - u[i];
+
+      Vector<double> forces(n), rhs(n), du(n), trial(n), trial_forces(n);
+      for (unsigned int it = 0; it <= max_newton_iterations; ++it)
+        {
+          Timer assembly;
+          const bool first = (it == 0);
+          if (!evaluate(u, forces, &tangent))
+            {
+              result.reason = "a tetrahedron is inverted";
+              return result;
+            }
+          const double residual = free_norm(forces);
+          result.residual       = residual / std::max(reference_force, 1e-300);
+          if (!first && residual <= residual_tolerance * reference_force)
+            {
+              result.converged = true;
+              return result;
+            }
+          if (it == max_newton_iterations)
+            break;
+
+          // rhs = -R - K d on the free rows, K_jj d_j on the join rows.
+          tangent.vmult(rhs, join_increment);
+          rhs += forces;
+          rhs *= -1.;
+          LinearElasticity::eliminate_join_dofs(is_join, tangent);
+          for (unsigned int i = 0; i < n; ++i)
+            if (is_join[i])
+              rhs[i] = tangent.diag_element(i) * join_increment[i];
+          if (first)
+            {
+              reference_force = std::max(reference_force, free_norm(rhs));
+              if (reference_force == 0.)
+                {
+                  result.converged = true;
+                  return result;
+                }
+            }
+          time_assembly += assembly.wall_time();
+
+          if (!linear_solve(rhs, du, result.reason))
+            return result;
+          ++result.iterations;
+          for (unsigned int i = 0; i < n; ++i)
+            if (is_join[i])
+              du[i] = join_increment[i];
+
+          // Backtracking on the residual norm; the predictor (which moves
+          // the join points) is taken whole or the step fails.
+          bool accepted = false;
+          for (double alpha = 1.; alpha > 1. / 64 && !accepted; alpha /= 2)
+            {
+              trial = u;
+              trial.add(alpha, du);
+              Timer line_search;
+              const bool valid = evaluate(trial, trial_forces, nullptr);
+              time_assembly += line_search.wall_time();
+              if (valid &&
+                  (first || free_norm(trial_forces) <= (1. - 1e-4 * alpha) * residual))
+                accepted = true;
+              if (first)
+                break;
+            }
+          if (!accepted)
+            {
+              result.reason = first ? "the predictor inverts a tetrahedron" :
+                                      "the line search found no descent";
+              return result;
+            }
+          u.swap(trial);
+          join_increment = 0.;
+        }
+      result.reason = "no convergence in " +
+                      std::to_string(max_newton_iterations) + " iterations";
+      return result;
+    }
+
+    void
+    NonlinearFEM::solve(const Vector<double> &prescribed,
+                        Vector<double> &      displacement)
+    {
+      Assert(scene != nullptr, ExcMessage("NonlinearFEM::setup() first."));
+      Timer                    timer;
+      const std::vector<bool> &is_join = scene->join_dofs();
+      const unsigned int       n       = is_join.size();
+      last_report     = Report();
+      reference_force = 0.;
+      time_assembly = time_linear = 0.;
+
+      Vector<double> join_motion(n);
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          join_motion[i] = prescribed[i];
+
+      displacement.reinit(n);
+      Vector<double> converged = displacement, target(n);
+      double         load = 0., increment = initial_increment;
+      while (load < 1.)
+        {
+          const double next = std::min(1., load + increment);
+          target.equ(next, join_motion);
+          const StepResult step = newton(displacement, target);
+          if (step.converged)
+            {
+              load = next;
+              converged = displacement;
+              ++last_report.load_steps;
+              last_report.newton_iterations += step.iterations;
+              last_report.iterations_per_step.push_back(step.iterations);
+              last_report.final_residual = step.residual;
+              if (step.iterations <= 4)
+                increment *= 2.;
+              increment = std::min(increment, 1. - load);
+              if (!std::isfinite(displacement.l2_norm()))
+                throw Error("nonlinear fem: the displacement became NaN.");
+            }
+          else
+            {
+              displacement = converged;
+              ++last_report.cutbacks;
+              last_report.newton_iterations += step.iterations;
+              increment /= 2.;
+              if (increment < minimum_increment)
+                {
+                  std::ostringstream m;
+                  m << "nonlinear fem ("
+                    << (law == Hyperelasticity::Law::neo_hooke ?
+                          "neo-hooke" :
+                          "st venant-kirchhoff")
+                    << ", " << solver_name << "): load step "
+                    << last_report.load_steps + 1 << " failed at load "
+                    << next << " of the planning: " << step.reason
+                    << " (relative residual " << step.residual
+                    << "); the increment fell below " << minimum_increment
+                    << " after " << last_report.cutbacks
+                    << " cut-backs. Last converged load: " << load << ".";
+                  if (law == Hyperelasticity::Law::st_venant_kirchhoff)
+                    m << " St. Venant-Kirchhoff softens under strong "
+                         "compression and may have no equilibrium here; "
+                         "'Material law = neo-hooke' does.";
+                  throw Error(m.str());
+                }
+            }
+        }
+
+      stats.iterations = last_report.newton_iterations;
+      stats.residual   = last_report.final_residual;
+      stats.solve_time = timer.wall_time();
+      stats.phases.resize(1);
+      stats.phases.emplace_back("assembly", time_assembly);
+      stats.phases.emplace_back("linear solves", time_linear);
+      stats.details.clear();
+      stats.details.emplace_back("load steps",
+                                 std::to_string(last_report.load_steps));
+      stats.details.emplace_back("cut-backs",
+                                 std::to_string(last_report.cutbacks));
+      std::string per_step;
+      for (const unsigned int i : last_report.iterations_per_step)
+        per_step += (per_step.empty() ? "" : "/") + std::to_string(i);
+      stats.details.emplace_back("Newton iterations per step", per_step);
+      stats.details.emplace_back("linear iterations",
+                                 std::to_string(last_report.linear_iterations));
+    }
+
+    const SparsityPattern &
+    NonlinearFEM::sparsity_pattern() const
+    {
+      return sparsity;
+    }
+
+    const NonlinearFEM::Report &
+    NonlinearFEM::report() const
+    {
+      return last_report;
+    }
+
+    SOFTFACE_REGISTER_MODEL(NonlinearFEM,
+                            "nonlinear fem",
+                            "Large-deformation elasticity on P1 tetrahedra "
+                            "(St. Venant-Kirchhoff or Neo-Hooke), Newton with "
+                            "line search and load-step cut-back.")
+  } // namespace Models
+} // namespace softface

@@ -1,0 +1,97 @@
+// Nonlinear FEM against linear FEM and rigid motions:
+// - small displacements (0.01 and 0.02 mm lifts): the difference to linear
+//   FEM is O(u^2): tiny against u, and four times larger at twice the lift;
+// - the bone alone rotated by 30 degrees (outer faces free): the whole block
+//   follows rigidly with zero stress, which only the full Green-Lagrange
+//   strain gives; linear FEM's answer is visibly not rigid.
+
+#include <softface/models/linear_fem.h>
+#include <softface/models/nonlinear_fem.h>
+
+#include "scenes.h"
+#include "tests.h"
+
+using namespace softface;
+
+namespace
+{
+  double
+  max_difference_to_linear(const Scene &scene, const Vector<double> &prescribed,
+                           const std::string &law)
+  {
+    Models::LinearFEM linear;
+    linear.set_solver("direct", 0.);
+    linear.setup(scene);
+    Models::NonlinearFEM nonlinear;
+    nonlinear.set_options(law, "direct");
+    nonlinear.setup(scene);
+    Vector<double> u_linear, u_nonlinear;
+    linear.solve(prescribed, u_linear);
+    nonlinear.solve(prescribed, u_nonlinear);
+    u_nonlinear -= u_linear;
+    return u_nonlinear.linfty_norm();
+  }
+} // namespace
+
+SOFTFACE_TEST(nonlinear_vs_linear)
+{
+  {
+    Scene scene;
+    softface_tests::make_cube_scene(scene, 3000);
+    for (const std::string law : {"st venant-kirchhoff", "neo-hooke"})
+      {
+        const double d1 = max_difference_to_linear(
+          scene, softface_tests::move_bone(scene, Point<3>(0, 0, 0.01)), law);
+        const double d2 = max_difference_to_linear(
+          scene, softface_tests::move_bone(scene, Point<3>(0, 0, 0.02)), law);
+        deallog << law << ": difference ratio at twice the lift "
+                << softface_tests::rounded(d2 / d1, 2) << std::endl;
+        softface_tests::check(d1 < 1e-3 * 0.01,
+                              law + ": 0.01 mm lift within 1e-3 relative");
+        softface_tests::check(d2 / d1 > 3.6 && d2 / d1 < 4.4,
+                              law + ": difference grows as u^2");
+      }
+  }
+
+  {
+    Scene                scene;
+    Mesh::CubeParameters cube;
+    cube.target_n_tetrahedra = 3000;
+    Mesh::generate_cube(cube, scene.triangulation);
+    scene.segments = {{"bone", {Mesh::cube_inner_id}, {}}};
+    scene.setup();
+    const RigidMotion motion(Point<3>(1, 2, -1), Point<3>(1, 1, 1), 30.,
+                             Point<3>(40, 40, 40));
+    Planning planning;
+    planning.set_motion(0, motion);
+    const Vector<double> prescribed = planning.prescribed_displacement(scene);
+
+    Models::NonlinearFEM nonlinear;
+    nonlinear.set_options("neo-hooke", "direct");
+    nonlinear.setup(scene);
+    Models::LinearFEM linear;
+    linear.set_solver("direct", 0.);
+    linear.setup(scene);
+    Vector<double> u_nonlinear, u_linear;
+    nonlinear.solve(prescribed, u_nonlinear);
+    linear.solve(prescribed, u_linear);
+
+    double      nonlinear_deviation = 0., linear_deviation = 0.;
+    const auto &vertices = scene.triangulation.get_vertices();
+    for (unsigned int v = 0; v < vertices.size(); ++v)
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          const double rigid = motion.displacement(vertices[v])[c];
+          const auto   dof   = scene.vertex_dofs()[v][c];
+          nonlinear_deviation =
+            std::max(nonlinear_deviation, std::abs(u_nonlinear[dof] - rigid));
+          linear_deviation =
+            std::max(linear_deviation, std::abs(u_linear[dof] - rigid));
+        }
+    softface_tests::check(nonlinear_deviation < 1e-8,
+                          "30 degrees: nonlinear FEM moves the block rigidly "
+                          "(1e-8 mm)");
+    softface_tests::check(linear_deviation > 1.,
+                          "30 degrees: linear FEM deviates by more than 1 mm");
+  }
+}
