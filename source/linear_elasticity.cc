@@ -84,21 +84,36 @@ namespace softface
         }
     }
 
+    std::array<std::uint8_t, 12>
+    sorted_order(const std::array<types::global_dof_index, 12> &dofs)
+    {
+      std::array<std::uint8_t, 12> order;
+      std::iota(order.begin(), order.end(), 0);
+      std::sort(order.begin(), order.end(), [&](unsigned int p, unsigned int q) {
+        return dofs[p] < dofs[q];
+      });
+      return order;
+    }
+
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
                     const TetrahedronStiffness &                   K,
                     SparseMatrix<double> &                         matrix)
     {
+      add_cell_matrix(dofs, sorted_order(dofs), K, matrix);
+    }
+
+    void
+    add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
+                    const std::array<std::uint8_t, 12> &           order,
+                    const TetrahedronStiffness &                   K,
+                    SparseMatrix<double> &                         matrix)
+    {
       // Adding a row with sorted column indices lets SparseMatrix merge it
-      // into the row instead of searching for each entry: the sort is done
-      // once per cell and serves all twelve rows.
-      std::array<unsigned int, 12>            order;
+      // into the row instead of searching for each entry: one order serves
+      // all twelve rows (and, precomputed, every assembly).
       std::array<types::global_dof_index, 12> sorted_dofs;
       std::array<double, 12>                  row_values;
-      std::iota(order.begin(), order.end(), 0u);
-      std::sort(order.begin(), order.end(), [&](unsigned int p, unsigned int q) {
-        return dofs[p] < dofs[q];
-      });
       for (unsigned int k = 0; k < 12; ++k)
         sorted_dofs[k] = dofs[order[k]];
       for (unsigned int a = 0; a < 4; ++a)

@@ -89,20 +89,32 @@ namespace softface
       std::ofstream out = open(filename);
       out << "model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,iterations,"
              "max_displacement_mm,max_diff_to_linear_fem_mm,"
-             "mean_diff_to_linear_fem_mm\n";
+             "mean_diff_to_linear_fem_mm,relative_residual,phases,details\n";
       for (const ModelRun &run : runs)
-        out << run.model << ',' << scene.triangulation.n_active_cells() << ','
-            << scene.n_vertices() << ',' << scene.n_free_dofs() << ','
-            << std::setprecision(6) << run.statistics.setup_time << ','
-            << run.statistics.solve_time << ',' << run.statistics.iterations
-            << ',' << std::setprecision(10)
-            << max_displacement(scene, run.displacement) << ','
-            << (run.max_difference >= 0 ? std::to_string(run.max_difference)
-                                        : "")
-            << ','
-            << (run.mean_difference >= 0 ? std::to_string(run.mean_difference)
-                                         : "")
-            << '\n';
+        {
+          out << run.model << ',' << scene.triangulation.n_active_cells()
+              << ',' << scene.n_vertices() << ',' << scene.n_free_dofs() << ','
+              << std::setprecision(6) << run.statistics.setup_time << ','
+              << run.statistics.solve_time << ',' << run.statistics.iterations
+              << ',' << std::setprecision(10)
+              << max_displacement(scene, run.displacement) << ','
+              << (run.max_difference >= 0 ? std::to_string(run.max_difference) :
+                                            "")
+              << ','
+              << (run.mean_difference >= 0 ?
+                    std::to_string(run.mean_difference) :
+                    "")
+              << ',' << std::setprecision(3) << run.statistics.residual << ',';
+          // Phases and details as "name=value" pairs separated by ';'.
+          for (unsigned int i = 0; i < run.statistics.phases.size(); ++i)
+            out << (i ? ";" : "") << run.statistics.phases[i].first << '='
+                << std::setprecision(4) << run.statistics.phases[i].second;
+          out << ',';
+          for (unsigned int i = 0; i < run.statistics.details.size(); ++i)
+            out << (i ? ";" : "") << run.statistics.details[i].first << '='
+                << run.statistics.details[i].second;
+          out << '\n';
+        }
     }
 
     void

@@ -25,6 +25,13 @@ def fit_exponent(n, t):
     return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x)
 
 
+def details_text(r):
+    """The model's own figures ("name=value;...") and, for failed or warned runs, the message."""
+    text = ", ".join(p.replace("=", " ") for p in r["details"].split(";") if p)
+    mine = [m.strip() for m in r.get("messages", "").split("|") if r["model"] + ":" in m]
+    return text + ("; " + " ".join(mine) if mine else "")
+
+
 def main():
     path, outdir, command = sys.argv[1], sys.argv[2], sys.argv[3]
     rows = list(csv.DictReader(open(path)))
@@ -34,11 +41,11 @@ def main():
         for k in ("setup_s", "solve_s", "max_displacement_mm"):
             r[k] = float(r[k])
         r["total"] = r["setup_s"] + r["solve_s"]
-    models = ["linear fem", "mass tensor", "mass spring"]
+    models = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
     sizes = sorted({r["n_tets"] for r in rows})
     by = {(r["model"], r["n_tets"]): r for r in rows}
 
-    md = ["# The seed's cube: linear FEM, mass tensor and mass spring side by side", ""]
+    md = ["# The seed's cube: linear FEM, mass tensor, mass spring and nonlinear FEM side by side", ""]
     md.append("The seed's benchmark (section 2.3.6, Fig. 2): 80 mm cube, border fixed, central "
               "10 mm cube moved 6 mm up, Poisson's ratio 0.46. All three models run in one "
               "softface process per mesh, on the same mesh, join points and DoF layout. Linear "
@@ -46,7 +53,10 @@ def main():
               "updates with the seed's local stop criterion (0.001 mm per sweep over a window "
               "of 10) and active set. Mass spring: steepest descent with the dynamic cut-out, "
               "stop when no point's step exceeds 0.001 mm, springs allowed to flip as in the "
-              "seed (inversions are counted). *setup* builds the matrix / tensors / springs; "
+              "seed (inversions are counted). Nonlinear FEM: compressible Neo-Hooke, Newton with "
+              "line search, CG preconditioned by the linear AMG, residual 1e-10 (St. "
+              "Venant-Kirchhoff, the seed's law, has no equilibrium on these meshes from about "
+              "100k tetrahedra: see calculix_nonlinear.md). *setup* builds the matrix / tensors / springs; "
               "*solve* answers the planning. Differences are to the linear FEM answer on the "
               "same mesh, over the free vertices.")
     md.append("")
@@ -59,24 +69,31 @@ def main():
         for m in models:
             r = by.get((m, n))
             if r is None:
-                md.append(f"| {m} | {n} | | failed | | | | | | see the run log |")
+                any_row = next((x for x in rows if x["n_tets"] == n), {})
+                why = [x.strip() for x in any_row.get("messages", "").split("|")
+                       if "error: " + m + ":" in x or "error: " + m + " (" in x]
+                md.append(f"| {m} | {n} | | failed | | | | | | "
+                          f"{' '.join(why) or 'see the run log'} |")
                 continue
             md.append(f"| {m} | {r['n_tets']} | {r['n_free_dofs']} | {r['setup_s']:.3f} | "
                       f"{r['solve_s']:.3f} | {r['total']:.3f} | {r['iterations']} | "
                       f"{r['max_diff_to_linear_fem_mm']} | {r['mean_diff_to_linear_fem_mm']} | "
-                      f"{r['details'].strip()} |")
+                      f"{details_text(r)} |")
     md.append("")
     md.append("## Ratios measured in the same run (total = setup + solve)")
     md.append("")
-    md.append("| tets | MTM / FEM total | MTM / FEM solve | MSM / FEM total | MTM / MSM total |")
-    md.append("|---:|---:|---:|---:|---:|")
+    md.append("| tets | MTM / FEM total | MTM / FEM solve | MSM / FEM total | MTM / MSM total | "
+              "NL FEM / FEM total |")
+    md.append("|---:|---:|---:|---:|---:|---:|")
     for n in sizes:
         f, t, s = by.get(("linear fem", n)), by.get(("mass tensor", n)), by.get(("mass spring", n))
+        nl = by.get(("nonlinear fem", n))
         cells = [str(n)]
         cells.append(f"{t['total'] / f['total']:.2f}" if f and t else "")
         cells.append(f"{t['solve_s'] / f['solve_s']:.2f}" if f and t else "")
         cells.append(f"{s['total'] / f['total']:.2f}" if f and s else "")
         cells.append(f"{t['total'] / s['total']:.2f}" if t and s else "")
+        cells.append(f"{nl['total'] / f['total']:.2f}" if f and nl else "")
         md.append("| " + " | ".join(cells) + " |")
     md.append("")
     md.append("The seed found MTM 40% faster than FEM (ratio 0.60) and 52% faster than MSM "
@@ -100,8 +117,9 @@ def main():
               "`benchmarks/run_all.sh` (when present).")
     md.append("")
     md.append("Targets at about 100k tetrahedra: mass tensor at most 200 ns per active point "
-              "update, a complete solve under 2 s; mass spring under 5 s. See the details "
-              "column (ns per update) and the solve column.")
+              "update, a complete solve under 2 s; mass spring under 5 s; nonlinear FEM under 10 "
+              "times the linear FEM time. See the details column (ns per update), the solve "
+              "column and the ratios.")
     md.append("")
     md.append("![time against tetrahedra](cube_models.png)")
     md.append("")

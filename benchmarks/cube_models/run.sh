@@ -17,19 +17,21 @@ sizes="30000 100000 200000 500000"
 
 mkdir -p "$work" "$results"
 csv=$work/cube_models.csv
-echo "model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,iterations,max_displacement_mm,max_diff_to_linear_fem_mm,mean_diff_to_linear_fem_mm,details" > "$csv"
+header_written=false
 n=$(echo $sizes | wc -w); i=0; start=$(date +%s)
 for tets in $sizes; do
   i=$((i + 1))
   echo "[$i/$n] $tets tetrahedra (elapsed $(( $(date +%s) - start )) s)"
   sed -e "s/@TETS@/$tets/" -e "s|@OUTPUT@|$work/$tets|" "$here/cube.prm.in" > "$work/$tets.prm"
   "$softface" "$work/$tets.prm" > "$work/$tets.log" 2>&1 || echo "  (a model failed: see $work/$tets.log)"
+  # summary.csv rows, plus the warnings and errors softface printed for the run.
+  if [ "$header_written" = false ]; then
+    echo "$(head -n 1 "$work/$tets/summary.csv"),messages" > "$csv"
+    header_written=true
+  fi
+  messages=$(grep -E "^softface: (warning|error)" "$work/$tets.log" | sed 's/^softface: //; s/,/;/g' | tr '\n' '|' || true)
   tail -n +2 "$work/$tets/summary.csv" | while IFS= read -r row; do
-    model=${row%%,*}
-    details=$(sed -n "s/^$model details: *//p" "$work/$tets.log" | sed 's/  */ /g; s/,/;/g')
-    warning=$(grep -o "with [0-9]* inverted tetrahedra" "$work/$tets.log" | head -1 || true)
-    [ "$model" = "mass spring" ] && [ -n "$warning" ] && details="$details; warning: ended $warning"
-    echo "$row,$details" >> "$csv"
+    echo "$row,$messages" >> "$csv"
   done
 done
 cp "$csv" "$results/cube_models.csv"

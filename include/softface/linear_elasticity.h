@@ -9,6 +9,7 @@
 #include <softface/scene.h>
 
 #include <array>
+#include <cstdint>
 
 namespace softface
 {
@@ -43,6 +44,17 @@ namespace softface
     /// Add a 12x12 cell matrix (blocks K[a][b]) at the DoFs of its vertices.
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
+                    const TetrahedronStiffness &                   K,
+                    SparseMatrix<double> &                         matrix);
+
+    /// The local indices 0..11 ordered by their DoF.
+    std::array<std::uint8_t, 12>
+    sorted_order(const std::array<types::global_dof_index, 12> &dofs);
+
+    /// The same, with the order precomputed (sorted_order(dofs)).
+    void
+    add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
+                    const std::array<std::uint8_t, 12> &           order,
                     const TetrahedronStiffness &                   K,
                     SparseMatrix<double> &                         matrix);
 

@@ -44,7 +44,9 @@ namespace softface
 
     /// Columns model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,
     /// iterations,max_displacement_mm,max_diff_to_linear_fem_mm,
-    /// mean_diff_to_linear_fem_mm (the last two empty without linear fem).
+    /// mean_diff_to_linear_fem_mm (empty without linear fem),
+    /// relative_residual, phases and details ("name=value" pairs joined by
+    /// ';': each model's own figures, e.g. Newton iterations per load step).
     void
     write_summary_csv(const Scene &                scene,
                       const std::vector<ModelRun> &runs,

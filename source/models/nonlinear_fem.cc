@@ -121,6 +121,16 @@ namespace softface
 
       LinearElasticity::make_sparsity_pattern(*scene, sparsity);
       tangent.reinit(sparsity);
+
+      // Where each of a cell's 144 tangent entries lives in the matrix's
+      // value array: every Newton iteration adds to them directly instead of
+      // searching the rows (which took most of the assembly time).
+      cell_entry_positions.resize(144 * cell_dofs.size());
+      for (unsigned int c = 0; c < cell_dofs.size(); ++c)
+        for (unsigned int r = 0; r < 12; ++r)
+          for (unsigned int k = 0; k < 12; ++k)
+            cell_entry_positions[144 * c + 12 * r + k] =
+              sparsity(cell_dofs[c][r], cell_dofs[c][k]);
       if (solver_name != "direct")
         {
           // The preconditioner is built once, on the linear stiffness (the
@@ -141,8 +151,17 @@ namespace softface
     {
       const double lambda = scene->material.lambda(), mu = scene->material.mu();
       forces.reinit(u.size());
+      double *values = nullptr;
       if (tangent_matrix != nullptr)
-        *tangent_matrix = 0;
+        {
+          Assert(&tangent_matrix->get_sparsity_pattern() == &sparsity,
+                 ExcMessage("The tangent must live on sparsity_pattern()."));
+          *tangent_matrix = 0;
+          // SparseMatrix keeps its values in one array in the order of the
+          // sparsity pattern's entries; a square matrix stores the diagonal
+          // first in each row, so entry (0,0) is the start of that array.
+          values = &tangent_matrix->diag_element(0);
+        }
       Hyperelasticity::CellResponse response;
       std::array<Tensor<1, 3>, 4>   u_cell;
       for (unsigned int c = 0; c < cell_dofs.size(); ++c)
@@ -163,10 +182,15 @@ namespace softface
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               forces[dofs[3 * a + i]] += response.force[a][i];
-          if (tangent_matrix != nullptr)
-            LinearElasticity::add_cell_matrix(dofs,
-                                              response.tangent,
-                                              *tangent_matrix);
+          if (values != nullptr)
+            {
+              const unsigned int *position = &cell_entry_positions[144 * c];
+              for (unsigned int a = 0; a < 4; ++a)
+                for (unsigned int i = 0; i < 3; ++i)
+                  for (unsigned int b = 0; b < 4; ++b)
+                    for (unsigned int j = 0; j < 3; ++j)
+                      values[*position++] += response.tangent[a][b][i][j];
+            }
         }
       return true;
     }
@@ -241,11 +265,14 @@ namespace softface
           join_increment[i] = target[i] - u[i];
 
       Vector<double> forces(n), rhs(n), du(n), trial(n), trial_forces(n);
+      // The accepted line-search point was evaluated with its tangent, so
+      // the next iteration starts from it without assembling again.
+      bool evaluated = false;
       for (unsigned int it = 0; it <= max_newton_iterations; ++it)
         {
           Timer assembly;
           const bool first = (it == 0);
-          if (!evaluate(u, forces, &tangent))
+          if (!evaluated && !evaluate(u, forces, &tangent))
             {
               result.reason = "a tetrahedron is inverted";
               return result;
@@ -294,7 +321,7 @@ namespace softface
               trial = u;
               trial.add(alpha, du);
               Timer line_search;
-              const bool valid = evaluate(trial, trial_forces, nullptr);
+              const bool valid = evaluate(trial, trial_forces, &tangent);
               time_assembly += line_search.wall_time();
               if (valid &&
                   (first || free_norm(trial_forces) <= (1. - 1e-4 * alpha) * residual))
@@ -309,6 +336,8 @@ namespace softface
               return result;
             }
           u.swap(trial);
+          forces.swap(trial_forces);
+          evaluated      = true;
           join_increment = 0.;
         }
       result.reason = "no convergence in " +

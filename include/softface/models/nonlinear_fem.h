@@ -112,6 +112,7 @@ namespace softface
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
       std::vector<std::array<Tensor<1, 3>, 4>>            cell_gradients;
       std::vector<double>                                 cell_volumes;
+      std::vector<unsigned int>                           cell_entry_positions;
 
       SparsityPattern                   sparsity;
       SparseMatrix<double>              tangent;
