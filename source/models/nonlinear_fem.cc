@@ -119,6 +119,7 @@ namespace softface
           cell_dofs.push_back(dofs);
         }
 
+      stats.phases.emplace_back("cells", timer.wall_time());
       LinearElasticity::make_sparsity_pattern(*scene, sparsity);
       tangent.reinit(sparsity);
 
@@ -127,10 +128,33 @@ namespace softface
       // searching the rows (which took most of the assembly time).
       cell_entry_positions.resize(144 * cell_dofs.size());
       for (unsigned int c = 0; c < cell_dofs.size(); ++c)
-        for (unsigned int r = 0; r < 12; ++r)
-          for (unsigned int k = 0; k < 12; ++k)
-            cell_entry_positions[144 * c + 12 * r + k] =
-              sparsity(cell_dofs[c][r], cell_dofs[c][k]);
+        {
+          const auto &dofs  = cell_dofs[c];
+          const auto  order = LinearElasticity::sorted_order(dofs);
+          for (unsigned int r = 0; r < 12; ++r)
+            {
+              // A square pattern stores the diagonal first, then the other
+              // columns ascending: one merge along the row finds all twelve.
+              const auto row = dofs[r];
+              auto       entry = sparsity.begin(row);
+              const auto diagonal = entry->global_index();
+              ++entry;
+              for (const unsigned int q : order)
+                {
+                  if (dofs[q] == row)
+                    {
+                      cell_entry_positions[144 * c + 12 * r + q] = diagonal;
+                      continue;
+                    }
+                  while (entry->column() < dofs[q])
+                    ++entry;
+                  Assert(entry->column() == dofs[q], ExcInternalError());
+                  cell_entry_positions[144 * c + 12 * r + q] =
+                    entry->global_index();
+                }
+            }
+        }
+      stats.phases.emplace_back("positions", timer.wall_time());
       if (solver_name != "direct")
         {
           // The preconditioner is built once, on the linear stiffness (the
@@ -416,7 +440,7 @@ namespace softface
       stats.iterations = last_report.newton_iterations;
       stats.residual   = last_report.final_residual;
       stats.solve_time = timer.wall_time();
-      stats.phases.resize(1);
+      stats.phases.resize(std::min<std::size_t>(stats.phases.size(), 3));
       stats.phases.emplace_back("assembly", time_assembly);
       stats.phases.emplace_back("linear solves", time_linear);
       stats.details.clear();
