@@ -60,14 +60,8 @@ namespace softface
     // Aggregate vertices (blocks of three DoFs), not single DoFs: this
     // made ML's setup about 25% cheaper on the 100k cube for about the
     // same number of CG iterations.
-    // ML's blocks are DoFs 3k..3k+2, which is how deal.II numbers the
-    // vertex DoFs of FESystem(FE_SimplexP(1), 3) unless renumbered.
-    bool vertex_blocks = true;
-    for (const auto &dofs : scene.vertex_dofs())
-      if (dofs[0] != numbers::invalid_dof_index)
-        vertex_blocks &= (dofs[0] % 3 == 0 && dofs[1] == dofs[0] + 1 &&
-                          dofs[2] == dofs[0] + 2);
-    parameters.set("PDE equations", vertex_blocks ? 3 : 1);
+    // ML's blocks are DoFs 3k..3k+2: the DoFs of one vertex.
+    parameters.set("PDE equations", scene.dofs_are_point_blocks() ? 3 : 1);
     parameters.set("null space: type", "pre-computed");
     parameters.set("null space: dimension", modes.NumVectors());
     parameters.set("null space: vectors", modes.Values());

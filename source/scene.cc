@@ -162,6 +162,12 @@ namespace softface
           vertex_dof_indices[cell->vertex_index(v)][c] =
             cell->vertex_dof_index(v, c);
 
+    point_blocks = true;
+    for (const auto &dofs : vertex_dof_indices)
+      if (dofs[0] != numbers::invalid_dof_index)
+        point_blocks &= (dofs[0] % 3 == 0 && dofs[1] == dofs[0] + 1 &&
+                         dofs[2] == dofs[0] + 2);
+
     find_join_points();
     check_free_region_connectivity();
   }
@@ -314,5 +320,11 @@ namespace softface
   Scene::join_dofs() const
   {
     return is_join_dof;
+  }
+
+  bool
+  Scene::dofs_are_point_blocks() const
+  {
+    return point_blocks;
   }
 } // namespace softface

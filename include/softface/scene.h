@@ -92,6 +92,15 @@ namespace softface
     const std::vector<bool> &
     join_dofs() const;
 
+    /**
+     * True if the DoFs of every vertex are 3p, 3p+1, 3p+2 for some point
+     * index p (how deal.II numbers FESystem(FE_SimplexP(1), 3) unless
+     * renumbered). The point-based models and ML's vertex aggregation rely
+     * on it.
+     */
+    bool
+    dofs_are_point_blocks() const;
+
     Triangulation<3>         triangulation;
     const FESystem<3>        fe;
     const MappingFE<3>       mapping;
@@ -111,6 +120,7 @@ namespace softface
     std::vector<unsigned int>                           segment_of_vertex;
     std::vector<bool>                                   is_join_dof;
     std::vector<unsigned int>                           n_joins_of_segment;
+    bool                                                point_blocks = false;
   };
 } // namespace softface
 

@@ -1,5 +1,6 @@
 #include <deal.II/base/timer.h>
 
+#include <softface/active_set.h>
 #include <softface/error.h>
 #include <softface/linear_elasticity.h>
 #include <softface/mesh.h>
@@ -73,6 +74,9 @@ namespace softface
       stats = Statistics();
       Timer timer;
 
+      if (!scene->dofs_are_point_blocks())
+        throw Error("mass spring: the DoFs of a vertex are not a block "
+                    "3p, 3p+1, 3p+2 (renumbered DoFs?).");
       const unsigned int n = scene->dof_handler.n_dofs() / 3;
       rest_position.assign(n, Point<3>());
       is_free.assign(n, false);
@@ -81,10 +85,6 @@ namespace softface
           const auto &dofs = scene->vertex_dofs()[v];
           if (dofs[0] == numbers::invalid_dof_index)
             continue;
-          if (dofs[0] % 3 != 0 || dofs[1] != dofs[0] + 1 ||
-              dofs[2] != dofs[0] + 2)
-            throw Error("mass spring: the DoFs of a vertex are not a block "
-                        "3p, 3p+1, 3p+2 (renumbered DoFs?).");
           rest_position[dofs[0] / 3] = scene->triangulation.get_vertices()[v];
           is_free[dofs[0] / 3]       = !scene->join_dofs()[dofs[0]];
         }
@@ -216,7 +216,7 @@ namespace softface
             initial += force(j, shortest).norm_square();
           }
 
-      std::vector<unsigned int> current, next, queued_in(n, 0);
+      ActiveSet                 active(n);
       unsigned long long        blocked_updates = 0;
       unsigned int              sweep         = 0;
       unsigned long long        point_updates = 0;
@@ -230,32 +230,34 @@ namespace softface
               for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                 {
                   const unsigned int k = other_end[i];
-                  if (is_free[k] && queued_in[k] != sweep + 1)
-                    queued_in[k] = sweep + 1, current.push_back(k);
+                  if (is_free[k])
+                    active.queue(k);
                 }
             }
 
-          while (!current.empty())
+          for (const std::vector<unsigned int> *current = &active.next_sweep();
+               !current->empty();
+               current = &active.next_sweep())
             {
               if (sweep == max_sweeps)
                 {
                   double pending = 0., shortest;
-                  for (const unsigned int j : current)
+                  for (const unsigned int j : *current)
                     pending = std::max(pending,
                                        force(j, shortest).norm() /
                                          total_stiffness[j]);
                   std::ostringstream m;
                   m << "mass spring: " << max_sweeps
                     << " sweeps were not enough (load step " << load_step
-                    << " of " << n_load_steps << "); " << current.size()
+                    << " of " << n_load_steps << "); " << current->size()
                     << " points are still active, largest pending step "
                     << pending << " mm (threshold " << stop_threshold
                     << " mm).";
                   throw Error(m.str());
                 }
               ++sweep;
-              point_updates += current.size();
-              for (const unsigned int j : current)
+              point_updates += current->size();
+              for (const unsigned int j : *current)
                 {
                   double             shortest;
                   const Tensor<1, 3> F    = force(j, shortest);
@@ -301,28 +303,12 @@ namespace softface
                       continue;
                     }
                   // Its own force and its neighbours' forces have changed.
-                  if (queued_in[j] != sweep + 1)
-                    queued_in[j] = sweep + 1, next.push_back(j);
+                  active.queue(j);
                   for (unsigned int i = row_start[j]; i < row_start[j + 1];
                        ++i)
-                    {
-                      const unsigned int k = other_end[i];
-                      if (is_free[k] && queued_in[k] != sweep + 1)
-                        queued_in[k] = sweep + 1, next.push_back(k);
-                    }
+                    if (is_free[other_end[i]])
+                      active.queue(other_end[i]);
                 }
-              // Memory order, as in the mass tensor model.
-              if (next.size() > n / 32)
-                {
-                  next.clear();
-                  for (unsigned int j = 0; j < n; ++j)
-                    if (queued_in[j] == sweep + 1)
-                      next.push_back(j);
-                }
-              else
-                std::sort(next.begin(), next.end());
-              current.swap(next);
-              next.clear();
             }
         }
 

@@ -1,5 +1,6 @@
 #include <deal.II/base/timer.h>
 
+#include <softface/active_set.h>
 #include <softface/error.h>
 #include <softface/linear_elasticity.h>
 #include <softface/models/linear_fem.h>
@@ -124,6 +125,9 @@ namespace softface
       stats = Statistics();
       Timer timer;
 
+      if (!scene->dofs_are_point_blocks())
+        throw Error("mass tensor: the DoFs of a vertex are not a block "
+                    "3p, 3p+1, 3p+2 (renumbered DoFs?).");
       const unsigned int n = scene->dof_handler.n_dofs() / 3;
       std::vector<std::array<unsigned int, 4>> cell_points;
       cell_points.reserve(scene->triangulation.n_active_cells());
@@ -131,14 +135,7 @@ namespace softface
         {
           std::array<unsigned int, 4> p;
           for (unsigned int a = 0; a < 4; ++a)
-            {
-              const auto &dofs = scene->vertex_dofs()[cell->vertex_index(a)];
-              if (dofs[0] % 3 != 0 || dofs[1] != dofs[0] + 1 ||
-                  dofs[2] != dofs[0] + 2)
-                throw Error("mass tensor: the DoFs of a vertex are not a "
-                            "block 3p, 3p+1, 3p+2 (renumbered DoFs?).");
-              p[a] = dofs[0] / 3;
-            }
+            p[a] = scene->vertex_dofs()[cell->vertex_index(a)][0] / 3;
           cell_points.push_back(p);
         }
 
@@ -242,10 +239,10 @@ namespace softface
       std::vector<double>       steps(static_cast<std::size_t>(n) * W, 0.);
       std::vector<double>       step_sum(n, 0.);
       std::vector<unsigned int> n_updates(n, 0);
-      std::vector<unsigned int> queued_in(n, 0); // sweep a point is queued for
 
-      // The first sweep visits the free neighbours of join points that move.
-      std::vector<unsigned int> current, next;
+      // The first sweep visits the free neighbours of join points that move
+      // (every free point without the active set).
+      ActiveSet active(n);
       for (unsigned int j = 0; j < n; ++j)
         if (is_free[j])
           {
@@ -258,8 +255,11 @@ namespace softface
                                           u[3 * k + 2] != 0.);
               }
             if (touched)
-              current.push_back(j);
+              active.queue(j);
           }
+      const std::vector<unsigned int> all_free = active.next_sweep();
+      const std::vector<unsigned int> &current =
+        use_active_set ? active.current() : all_free;
 
       std::vector<std::array<double, 3>> jacobi_values;
       unsigned int                       sweep         = 0;
@@ -334,21 +334,12 @@ namespace softface
 
               if (!use_active_set)
                 continue;
-              if (!stopped && queued_in[j] != sweep + 1)
-                {
-                  queued_in[j] = sweep + 1;
-                  next.push_back(j);
-                }
+              if (!stopped)
+                active.queue(j);
               if (step > threshold)
                 for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                  {
-                    const unsigned int k = neighbour[i];
-                    if (is_free[k] && queued_in[k] != sweep + 1)
-                      {
-                        queued_in[k] = sweep + 1;
-                        next.push_back(k);
-                      }
-                  }
+                  if (is_free[neighbour[i]])
+                    active.queue(neighbour[i]);
             }
           if (!gauss_seidel)
             for (unsigned int q = 0; q < current.size(); ++q)
@@ -356,24 +347,7 @@ namespace softface
                 u[3 * current[q] + c] = jacobi_values[q][c];
 
           if (use_active_set)
-            {
-              // Visit the next sweep's points in memory order: neighbouring
-              // points share cache lines, which matters once the tensors no
-              // longer fit in cache. A long list is rebuilt by scanning the
-              // marks, a short one sorted.
-              if (next.size() > n / 32)
-                {
-                  next.clear();
-                  for (unsigned int j = 0; j < n; ++j)
-                    if (queued_in[j] == sweep + 1)
-                      next.push_back(j);
-                }
-              else
-                std::sort(next.begin(), next.end());
-              current.swap(next);
-              next.clear();
-              done = current.empty();
-            }
+            done = active.next_sweep().empty();
           else
             done = all_stopped;
         }

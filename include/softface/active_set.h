@@ -1,0 +1,69 @@
+#ifndef softface_active_set_h
+#define softface_active_set_h
+
+#include <algorithm>
+#include <vector>
+
+namespace softface
+{
+  /**
+   * The points a local solver visits in its next sweep: the seed's dynamic
+   * cut-out (2.2) and active set (2.3.3) revisit only points whose force
+   * can have changed. A point is queued at most once per sweep, and a sweep
+   * visits its points in ascending (memory) order, so that neighbours share
+   * cache lines once the model no longer fits in cache.
+   */
+  class ActiveSet
+  {
+  public:
+    explicit ActiveSet(const unsigned int n_points)
+      : queued_in(n_points, 0)
+    {}
+
+    /// Visit @p point in the next sweep (again queuing it does nothing).
+    void
+    queue(const unsigned int point)
+    {
+      if (queued_in[point] != stamp)
+        {
+          queued_in[point] = stamp;
+          queued.push_back(point);
+        }
+    }
+
+    /// Start the next sweep: the queued points become current, ascending.
+    const std::vector<unsigned int> &
+    next_sweep()
+    {
+      // A long list is rebuilt by scanning the marks, a short one sorted.
+      if (queued.size() > queued_in.size() / 32)
+        {
+          queued.clear();
+          for (unsigned int j = 0; j < queued_in.size(); ++j)
+            if (queued_in[j] == stamp)
+              queued.push_back(j);
+        }
+      else
+        std::sort(queued.begin(), queued.end());
+      current_points.swap(queued);
+      queued.clear();
+      ++stamp;
+      return current_points;
+    }
+
+    /// The points of the current sweep.
+    const std::vector<unsigned int> &
+    current() const
+    {
+      return current_points;
+    }
+
+  private:
+    std::vector<unsigned int> queued_in; // sweep stamp a point is queued for
+    std::vector<unsigned int> queued;
+    std::vector<unsigned int> current_points;
+    unsigned int              stamp = 1;
+  };
+} // namespace softface
+
+#endif
