@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/error.h>
+#include <softface/threads.h>
 #include <softface/models/interface.h>
 #include <softface/simulator.h>
 
@@ -15,6 +16,7 @@ main(int argc, char **argv)
 {
   // Trilinos (the AMG solver) needs MPI initialised; softface runs serially.
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  softface::limit_blas_threads();
 
   const std::string usage =
     "usage: softface SCENE.prm        run a scene\n"

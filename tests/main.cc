@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/error.h>
+#include <softface/threads.h>
 
 #include "tests.h"
 
@@ -31,6 +32,7 @@ int
 main(int argc, char **argv)
 {
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
+  softface::limit_blas_threads();
   const auto &tests = softface_tests::registry();
   if (argc != 2 || tests.count(argv[1]) == 0)
     {
