@@ -22,11 +22,11 @@ softface_ensure_packages()
   missing=$(softface_missing_packages "$@")
   [ -z "$missing" ] && return 0
   if [ "$(id -u)" = "0" ]; then
-    echo "softface: installing missing Debian packages:$missing"
+    echo "softface: installing missing Debian packages (a few minutes for deal.II):$missing"
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq
-    apt-get install -y -qq --no-install-recommends $missing ccache > /dev/null ||
-      apt-get install -y -qq --no-install-recommends $missing > /dev/null
+    apt-get install -y -qq $missing ccache > /dev/null ||
+      apt-get install -y -qq $missing > /dev/null
   else
     echo "softface: missing Debian packages:$missing"
     echo "Install them with:"

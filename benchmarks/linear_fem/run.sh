@@ -35,7 +35,8 @@ for tets in $sizes; do
     "$softface" "$work/$tag.prm" > "$work/$tag.log"
     peak=$(sed -n 's/.*peak memory \([0-9]*\) MB.*/\1/p' "$work/$tag.log")
     phases=$(sed -n 's/^linear fem phases: *\(.*\) *(relative.*/\1/p' "$work/$tag.log" | sed 's/  */ /g')
-    tail -n 1 "$work/$tag/summary.csv" | sed "s/^linear fem/$solver/" | tr -d '\n' >> "$csv"
+    # The first eight columns of summary.csv (the model's own figures follow).
+    tail -n 1 "$work/$tag/summary.csv" | cut -d, -f1-8 | sed "s/^linear fem/$solver/" | tr -d '\n' >> "$csv"
     echo ",$peak,$phases" >> "$csv"
   done
 done
