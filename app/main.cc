@@ -4,9 +4,9 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/error.h>
-#include <softface/threads.h>
 #include <softface/models/interface.h>
 #include <softface/simulator.h>
+#include <softface/threads.h>
 
 #include <iostream>
 #include <string>

@@ -6,11 +6,11 @@
 namespace softface
 {
   void
-    initialize_elasticity_amg(const Scene                          &scene,
-                              const TrilinosWrappers::SparseMatrix &matrix,
-                              const double       aggregation_threshold,
-                              const unsigned int smoother_sweeps,
-                              TrilinosWrappers::PreconditionAMG &amg)
+  initialize_elasticity_amg(const Scene                          &scene,
+                            const TrilinosWrappers::SparseMatrix &matrix,
+                            const double       aggregation_threshold,
+                            const unsigned int smoother_sweeps,
+                            TrilinosWrappers::PreconditionAMG &amg)
   {
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic              = true;
@@ -36,27 +36,27 @@ namespace softface
     unsigned int       n = 0;
     for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
       if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
-      {
-        centroid += scene.triangulation.get_vertices()[v];
-        ++n;
-      }
+        {
+          centroid += scene.triangulation.get_vertices()[v];
+          ++n;
+        }
     centroid /= n;
     for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
-    {
-      const auto &dofs = scene.vertex_dofs()[v];
-      if (dofs[0] == numbers::invalid_dof_index)
-        continue;
-      const Tensor<1, 3> x = scene.triangulation.get_vertices()[v] - centroid;
-      for (unsigned int c = 0; c < 3; ++c)
-        modes[c][dofs[c]] = 1.;
-      // rotation about e_k: e_k x x
-      modes[3][dofs[1]] = -x[2];
-      modes[3][dofs[2]] = x[1];
-      modes[4][dofs[0]] = x[2];
-      modes[4][dofs[2]] = -x[0];
-      modes[5][dofs[0]] = -x[1];
-      modes[5][dofs[1]] = x[0];
-    }
+      {
+        const auto &dofs = scene.vertex_dofs()[v];
+        if (dofs[0] == numbers::invalid_dof_index)
+          continue;
+        const Tensor<1, 3> x = scene.triangulation.get_vertices()[v] - centroid;
+        for (unsigned int c = 0; c < 3; ++c)
+          modes[c][dofs[c]] = 1.;
+        // rotation about e_k: e_k x x
+        modes[3][dofs[1]] = -x[2];
+        modes[3][dofs[2]] = x[1];
+        modes[4][dofs[0]] = x[2];
+        modes[4][dofs[2]] = -x[0];
+        modes[5][dofs[0]] = -x[1];
+        modes[5][dofs[1]] = x[0];
+      }
     // Aggregate vertices (blocks of three DoFs), not single DoFs: this
     // made ML's setup about 25% cheaper on the 100k cube for about the
     // same number of CG iterations.

@@ -25,7 +25,7 @@ namespace softface
                   const double                       volume,
                   const std::array<Tensor<1, 3>, 4> &u,
                   const bool                         with_tangent,
-                  CellResponse &                     response)
+                  CellResponse                      &response)
     {
       Tensor<2, 3> F = unit_symmetric_tensor<3>();
       for (unsigned int a = 0; a < 4; ++a)
@@ -41,15 +41,15 @@ namespace softface
       double       log_J = 0.;
       if (law == Law::st_venant_kirchhoff)
         {
-          const Tensor<2, 3> E = 0.5 * (transpose(F) * F -
-                                        Tensor<2, 3>(unit_symmetric_tensor<3>()));
+          const Tensor<2, 3> E =
+            0.5 * (transpose(F) * F - Tensor<2, 3>(unit_symmetric_tensor<3>()));
           const double trace_E = trace(E);
           S = lambda * trace_E * Tensor<2, 3>(unit_symmetric_tensor<3>()) +
               2. * mu * E;
-          P = F * S;
-          b = F * transpose(F);
-          response.energy =
-            volume * (0.5 * lambda * trace_E * trace_E + mu * scalar_product(E, E));
+          P               = F * S;
+          b               = F * transpose(F);
+          response.energy = volume * (0.5 * lambda * trace_E * trace_E +
+                                      mu * scalar_product(E, E));
         }
       else
         {
@@ -75,15 +75,15 @@ namespace softface
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int c = 0; c < 4; ++c)
               {
-                const double geometric = grad[a] * Sg[c];
-                const double gg        = grad[a] * grad[c];
-                Tensor<2, 3> &K        = response.tangent[a][c];
+                const double  geometric = grad[a] * Sg[c];
+                const double  gg        = grad[a] * grad[c];
+                Tensor<2, 3> &K         = response.tangent[a][c];
                 for (unsigned int i = 0; i < 3; ++i)
                   for (unsigned int k = 0; k < 3; ++k)
-                    K[i][k] = volume * ((i == k ? geometric : 0.) +
-                                        lambda * Fg[a][i] * Fg[c][k] +
-                                        mu * Fg[c][i] * Fg[a][k] +
-                                        mu * b[i][k] * gg);
+                    K[i][k] =
+                      volume * ((i == k ? geometric : 0.) +
+                                lambda * Fg[a][i] * Fg[c][k] +
+                                mu * Fg[c][i] * Fg[a][k] + mu * b[i][k] * gg);
               }
         }
       else

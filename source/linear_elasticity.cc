@@ -24,7 +24,7 @@ namespace softface
       for (unsigned int k = 0; k < 3; ++k)
         for (unsigned int d = 0; d < 3; ++d)
           J[d][k] = x[k + 1][d] - x[0][d];
-      const double       volume = determinant(J) / 6.;
+      const double       volume    = determinant(J) / 6.;
       const Tensor<2, 3> J_inverse = invert(J);
 
       std::array<Tensor<1, 3>, 4> grad;
@@ -42,10 +42,9 @@ namespace softface
             const double shear = mu * (grad[a] * grad[b]);
             for (unsigned int i = 0; i < 3; ++i)
               for (unsigned int j = 0; j < 3; ++j)
-                K[a][b][i][j] =
-                  volume * (lambda * grad[a][i] * grad[b][j] +
-                            mu * grad[a][j] * grad[b][i] +
-                            (i == j ? shear : 0.));
+                K[a][b][i][j] = volume * (lambda * grad[a][i] * grad[b][j] +
+                                          mu * grad[a][j] * grad[b][i] +
+                                          (i == j ? shear : 0.));
           }
       return K;
     }
@@ -53,8 +52,8 @@ namespace softface
     std::array<Point<3>, 4>
     cell_vertices(const Triangulation<3>::active_cell_iterator &cell)
     {
-      return {{cell->vertex(0), cell->vertex(1), cell->vertex(2),
-               cell->vertex(3)}};
+      return {
+        {cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3)}};
     }
 
     void
@@ -79,7 +78,9 @@ namespace softface
             for (unsigned int i = 0; i < 3; ++i)
               dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
           add_cell_matrix(dofs,
-                          tetrahedron_stiffness(cell_vertices(cell), lambda, mu),
+                          tetrahedron_stiffness(cell_vertices(cell),
+                                                lambda,
+                                                mu),
                           stiffness);
         }
     }
@@ -89,25 +90,27 @@ namespace softface
     {
       std::array<std::uint8_t, 12> order;
       std::iota(order.begin(), order.end(), 0);
-      std::sort(order.begin(), order.end(), [&](unsigned int p, unsigned int q) {
-        return dofs[p] < dofs[q];
-      });
+      std::sort(order.begin(),
+                order.end(),
+                [&](unsigned int p, unsigned int q) {
+                  return dofs[p] < dofs[q];
+                });
       return order;
     }
 
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const TetrahedronStiffness &                   K,
-                    SparseMatrix<double> &                         matrix)
+                    const TetrahedronStiffness                    &K,
+                    SparseMatrix<double>                          &matrix)
     {
       add_cell_matrix(dofs, sorted_order(dofs), K, matrix);
     }
 
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const std::array<std::uint8_t, 12> &           order,
-                    const TetrahedronStiffness &                   K,
-                    SparseMatrix<double> &                         matrix)
+                    const std::array<std::uint8_t, 12>            &order,
+                    const TetrahedronStiffness                    &K,
+                    SparseMatrix<double>                          &matrix)
     {
       // Adding a row with sorted column indices lets SparseMatrix merge it
       // into the row instead of searching for each entry: one order serves
@@ -132,7 +135,7 @@ namespace softface
 
     void
     eliminate_join_dofs(const std::vector<bool> &is_join,
-                        SparseMatrix<double> &   matrix)
+                        SparseMatrix<double>    &matrix)
     {
       for (unsigned int row = 0; row < matrix.m(); ++row)
         for (auto entry = matrix.begin(row); entry != matrix.end(row); ++entry)

@@ -64,7 +64,7 @@ namespace softface
 
     void
     generate_cube(const CubeParameters &parameters,
-                  Triangulation<3> &    triangulation)
+                  Triangulation<3>     &triangulation)
     {
       const double L = parameters.edge_length, s = parameters.inner_size;
       const double a = (L - s) / 2., b = a + s;
@@ -90,8 +90,8 @@ namespace softface
       std::vector<double> lines = grid_lines(h0);
       for (double f = 0.8; f < 1.25; f += 0.005)
         {
-          const auto   candidate = grid_lines(h0 * f);
-          const auto   n_tets    = [](const std::vector<double> &l) {
+          const auto candidate = grid_lines(h0 * f);
+          const auto n_tets    = [](const std::vector<double> &l) {
             return 6. * std::pow(l.size() - 1., 3);
           };
           if (std::abs(n_tets(candidate) - parameters.target_n_tetrahedra) <
@@ -106,11 +106,10 @@ namespace softface
         for (unsigned int j = 0; j < n_lines; ++j)
           for (unsigned int i = 0; i < n_lines; ++i)
             vertices.emplace_back(lines[i], lines[j], lines[k]);
-      const auto index = [n_lines](unsigned int i,
-                                   unsigned int j,
-                                   unsigned int k) {
-        return i + n_lines * (j + n_lines * k);
-      };
+      const auto index =
+        [n_lines](unsigned int i, unsigned int j, unsigned int k) {
+          return i + n_lines * (j + n_lines * k);
+        };
 
       // Kuhn split: the six tetrahedra of a box share its main diagonal and
       // follow the six paths along the box edges from its lowest to its
@@ -127,9 +126,9 @@ namespace softface
               const Point<3> centre((lines[i] + lines[i + 1]) / 2.,
                                     (lines[j] + lines[j + 1]) / 2.,
                                     (lines[k] + lines[k + 1]) / 2.);
-              const bool     inner = (centre[0] > a && centre[0] < b &&
-                                  centre[1] > a && centre[1] < b &&
-                                  centre[2] > a && centre[2] < b);
+              const bool     inner =
+                (centre[0] > a && centre[0] < b && centre[1] > a &&
+                 centre[1] < b && centre[2] > a && centre[2] < b);
               for (const auto &path : paths)
                 {
                   unsigned int corner[3] = {i, j, k};
@@ -170,7 +169,7 @@ namespace softface
                     "' (Scene/Mesh file is relative to the parameter "
                     "file's folder).");
 
-      const auto dot = filename.rfind('.');
+      const auto        dot = filename.rfind('.');
       const std::string extension =
         (dot == std::string::npos) ? "" : filename.substr(dot + 1);
 
@@ -197,9 +196,8 @@ namespace softface
                 read_vtu(filename, triangulation);
             }
           else
-            throw Error("Mesh file '" + filename +
-                        "': unknown format '." + extension +
-                        "' (softface reads .msh, .vtk and .vtu).");
+            throw Error("Mesh file '" + filename + "': unknown format '." +
+                        extension + "' (softface reads .msh, .vtk and .vtu).");
         }
       catch (const Error &)
         {
@@ -216,7 +214,7 @@ namespace softface
 
     void
     check_cells(const Triangulation<3> &triangulation,
-                const std::string &     source)
+                const std::string      &source)
     {
       for (const auto &cell : triangulation.active_cell_iterators())
         {

@@ -19,7 +19,7 @@ namespace softface
   } // namespace
 
   void
-  Planning::declare_parameters(ParameterHandler &              prm,
+  Planning::declare_parameters(ParameterHandler               &prm,
                                const std::vector<std::string> &moved_segments)
   {
     const auto vector3 = Patterns::List(Patterns::Double(), 3, 3);
@@ -146,7 +146,7 @@ namespace softface
   Planning::prescribed_displacement(const Scene &scene) const
   {
     Vector<double> u(scene.dof_handler.n_dofs());
-    const auto &   vertices = scene.triangulation.get_vertices();
+    const auto    &vertices = scene.triangulation.get_vertices();
     for (unsigned int v = 0; v < vertices.size(); ++v)
       {
         const auto motion = motion_of_segment.find(scene.vertex_segment()[v]);

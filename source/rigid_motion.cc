@@ -9,16 +9,16 @@
 namespace softface
 {
   RigidMotion::RigidMotion()
-    : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
+      : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
   {}
 
   RigidMotion::RigidMotion(const Tensor<1, 3> &translation,
                            const Tensor<1, 3> &axis,
                            const double        angle_in_degrees,
-                           const Point<3> &    centre)
-    : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
-    , centre(centre)
-    , translation(translation)
+                           const Point<3>     &centre)
+      : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
+      , centre(centre)
+      , translation(translation)
   {
     if (angle_in_degrees != 0.)
       {

@@ -36,13 +36,13 @@ namespace softface
   } // namespace
 
   Scene::Scene()
-    : fe(FE_SimplexP<3>(1), 3)
-    , mapping(FE_SimplexP<3>(1))
-    , dof_handler(triangulation)
+      : fe(FE_SimplexP<3>(1), 3)
+      , mapping(FE_SimplexP<3>(1))
+      , dof_handler(triangulation)
   {}
 
   void
-  Scene::declare_parameters(ParameterHandler &              prm,
+  Scene::declare_parameters(ParameterHandler               &prm,
                             const std::vector<std::string> &segment_names)
   {
     prm.enter_subsection("Scene");
@@ -52,15 +52,16 @@ namespace softface
                       "Where the tetrahedral mesh comes from: 'cube' generates "
                       "the seed's cube benchmark (subsection Cube), 'file' "
                       "reads 'Mesh file'.");
-    prm.declare_entry("Mesh file",
-                      "",
-                      Patterns::Anything(),
-                      "Mesh to read when 'Mesh source = file': gmsh .msh "
-                      "(format 2 or 4.1; physical volumes give material ids, "
-                      "physical surfaces boundary ids), legacy VTK .vtk, or VTK "
-                      "XML .vtu (ascii, binary or appended raw, zlib or not; cell "
-                      "data MaterialID, material_id or gmsh:physical). Relative "
-                      "to the parameter file's folder.");
+    prm.declare_entry(
+      "Mesh file",
+      "",
+      Patterns::Anything(),
+      "Mesh to read when 'Mesh source = file': gmsh .msh "
+      "(format 2 or 4.1; physical volumes give material ids, "
+      "physical surfaces boundary ids), legacy VTK .vtk, or VTK "
+      "XML .vtu (ascii, binary or appended raw, zlib or not; cell "
+      "data MaterialID, material_id or gmsh:physical). Relative "
+      "to the parameter file's folder.");
     prm.declare_entry("Bone segments",
                       "fixed, bone",
                       Patterns::List(Patterns::Anything()),
@@ -98,14 +99,14 @@ namespace softface
   }
 
   void
-  Scene::parse_parameters(ParameterHandler & prm,
+  Scene::parse_parameters(ParameterHandler  &prm,
                           const std::string &input_directory)
   {
     material.parse_parameters(prm);
 
     prm.enter_subsection("Scene");
-    const std::string source = prm.get("Mesh source");
-    std::string       file   = prm.get("Mesh file");
+    const std::string    source = prm.get("Mesh source");
+    std::string          file   = prm.get("Mesh file");
     Mesh::CubeParameters cube;
     cube.parse_parameters(prm);
 
@@ -151,11 +152,10 @@ namespace softface
                   "every displacement is undetermined.");
 
     dof_handler.distribute_dofs(fe);
-    vertex_dof_indices.assign(
-      triangulation.n_vertices(),
-      {{numbers::invalid_dof_index,
-        numbers::invalid_dof_index,
-        numbers::invalid_dof_index}});
+    vertex_dof_indices.assign(triangulation.n_vertices(),
+                              {{numbers::invalid_dof_index,
+                                numbers::invalid_dof_index,
+                                numbers::invalid_dof_index}});
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int v : cell->vertex_indices())
         for (unsigned int c = 0; c < 3; ++c)

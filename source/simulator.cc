@@ -67,7 +67,7 @@ namespace softface
   } // namespace
 
   void
-  Simulator::declare_parameters(ParameterHandler &              prm,
+  Simulator::declare_parameters(ParameterHandler               &prm,
                                 const std::vector<std::string> &segment_names,
                                 const std::vector<std::string> &moved_segments)
   {
@@ -78,8 +78,7 @@ namespace softface
   }
 
   void
-  Simulator::read_parameters(const std::string &filename,
-                             ParameterHandler & prm)
+  Simulator::read_parameters(const std::string &filename, ParameterHandler &prm)
   {
     if (!std::ifstream(filename))
       throw Error("Cannot open parameter file '" + filename + "'.");
@@ -184,16 +183,16 @@ namespace softface
       Output::write_vtu(scene, runs, output.directory + "/solution.vtu");
     if (output.write_nodal_displacements)
       for (const auto &run : runs)
-        Output::write_nodal_displacements(
-          scene,
-          run.displacement,
-          output.directory + "/displacements_" + Output::file_name_of(run.model) +
-            ".csv");
+        Output::write_nodal_displacements(scene,
+                                          run.displacement,
+                                          output.directory + "/displacements_" +
+                                            Output::file_name_of(run.model) +
+                                            ".csv");
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
-    std::cout << "\nOutputs in " << output.directory
-              << "/ (summary.csv" << (output.write_vtu ? ", solution.vtu" : "")
+    std::cout << "\nOutputs in " << output.directory << "/ (summary.csv"
+              << (output.write_vtu ? ", solution.vtu" : "")
               << (output.write_nodal_displacements ? ", displacements_*.csv" :
                                                      "")
               << ", input.prm, parameters.prm)\n"

@@ -18,8 +18,8 @@ namespace softface
   } // namespace
 
   SparseCholesky::SparseCholesky()
-    : common(new cholmod_common)
-    , factor(nullptr)
+      : common(new cholmod_common)
+      , factor(nullptr)
   {
     cholmod_start(as_common(common));
     as_common(common)->print = 0;
@@ -70,16 +70,21 @@ namespace softface
         if (entry->column() >= row)
           ++n_lower;
 
-    cholmod_sparse *A = cholmod_allocate_sparse(
-      n, n, n_lower, /*sorted*/ 1, /*packed*/ 1, /*stype*/ -1, CHOLMOD_REAL,
-      as_common(common));
+    cholmod_sparse *A = cholmod_allocate_sparse(n,
+                                                n,
+                                                n_lower,
+                                                /*sorted*/ 1,
+                                                /*packed*/ 1,
+                                                /*stype*/ -1,
+                                                CHOLMOD_REAL,
+                                                as_common(common));
     if (A == nullptr)
       throw Error("direct solver: CHOLMOD could not allocate the matrix (" +
                   std::to_string(n_lower) + " entries).");
-    auto *column_start = static_cast<int *>(A->p);
-    auto *row_index    = static_cast<int *>(A->i);
-    auto *value        = static_cast<double *>(A->x);
-    std::size_t k      = 0;
+    auto       *column_start = static_cast<int *>(A->p);
+    auto       *row_index    = static_cast<int *>(A->i);
+    auto       *value        = static_cast<double *>(A->x);
+    std::size_t k            = 0;
     for (std::size_t row = 0; row < n; ++row)
       {
         column_start[row] = k;
@@ -117,13 +122,13 @@ namespace softface
     Assert(factor != nullptr, ExcMessage("factorize() first"));
     cholmod_dense B;
     std::memset(&B, 0, sizeof(B));
-    B.nrow  = b.size();
-    B.ncol  = 1;
-    B.nzmax = b.size();
-    B.d     = b.size();
-    B.x     = const_cast<double *>(b.begin());
-    B.xtype = CHOLMOD_REAL;
-    B.dtype = CHOLMOD_DOUBLE;
+    B.nrow           = b.size();
+    B.ncol           = 1;
+    B.nzmax          = b.size();
+    B.d              = b.size();
+    B.x              = const_cast<double *>(b.begin());
+    B.xtype          = CHOLMOD_REAL;
+    B.dtype          = CHOLMOD_DOUBLE;
     cholmod_dense *X = cholmod_solve(CHOLMOD_A,
                                      static_cast<cholmod_factor *>(factor),
                                      &B,

@@ -65,7 +65,7 @@ namespace softface
             quantum[n++] = (c == '=') ? -1 : int(digit);
             if (n < 4)
               continue;
-            n = 0;
+            n                    = 0;
             const unsigned int v = (quantum[0] << 18) | (quantum[1] << 12) |
                                    ((quantum[2] < 0 ? 0 : quantum[2]) << 6) |
                                    (quantum[3] < 0 ? 0 : quantum[3]);
@@ -95,12 +95,12 @@ namespace softface
       double
       value_at(const unsigned char *p, const std::string &type)
       {
-#define SOFTFACE_VTU_TYPE(name, ctype)  \
-  if (type == name)                     \
-    {                                   \
-      ctype v;                          \
-      std::memcpy(&v, p, sizeof(v));    \
-      return static_cast<double>(v);    \
+#define SOFTFACE_VTU_TYPE(name, ctype) \
+  if (type == name)                    \
+    {                                  \
+      ctype v;                         \
+      std::memcpy(&v, p, sizeof(v));   \
+      return static_cast<double>(v);   \
     }
         SOFTFACE_VTU_TYPE("Int8", std::int8_t)
         SOFTFACE_VTU_TYPE("UInt8", std::uint8_t)
@@ -121,7 +121,7 @@ namespace softface
       public:
         explicit VtuFile(const std::string &filename)
         {
-          std::ifstream in(filename, std::ios::binary);
+          std::ifstream      in(filename, std::ios::binary);
           std::ostringstream s;
           s << in.rdbuf();
           content = s.str();
@@ -130,8 +130,8 @@ namespace softface
           if (file_tag.count("type") == 0 ||
               file_tag.at("type") != "UnstructuredGrid")
             throw Error("not a VTK UnstructuredGrid file");
-          compressed = file_tag.count("compressor") &&
-                       !file_tag.at("compressor").empty();
+          compressed =
+            file_tag.count("compressor") && !file_tag.at("compressor").empty();
           if (compressed &&
               file_tag.at("compressor") != "vtkZLibDataCompressor")
             throw Error("compressor '" + file_tag.at("compressor") +
@@ -147,7 +147,8 @@ namespace softface
           if (appended != std::string::npos)
             {
               const auto attributes = parse_attributes(
-                content.substr(appended, content.find('>', appended) - appended));
+                content.substr(appended,
+                               content.find('>', appended) - appended));
               if (attributes.count("encoding") &&
                   attributes.at("encoding") != "raw")
                 throw Error("appended data must be raw-encoded (save as "
@@ -202,10 +203,10 @@ namespace softface
         std::vector<double>
         values(const DataArray &array) const
         {
-          const std::string type   = array.attributes.at("type");
-          const std::string format = array.attributes.count("format") ?
-                                       array.attributes.at("format") :
-                                       "ascii";
+          const std::string   type   = array.attributes.at("type");
+          const std::string   format = array.attributes.count("format") ?
+                                         array.attributes.at("format") :
+                                         "ascii";
           std::vector<double> result;
           if (format == "ascii")
             {
@@ -259,9 +260,9 @@ namespace softface
                 throw Error("truncated data block");
               return {raw.begin() + h, raw.begin() + h + n};
             }
-          const std::size_t n_blocks   = header_value(raw, 0);
-          const std::size_t block_size = header_value(raw, 1);
-          const std::size_t last_size  = header_value(raw, 2);
+          const std::size_t          n_blocks   = header_value(raw, 0);
+          const std::size_t          block_size = header_value(raw, 1);
+          const std::size_t          last_size  = header_value(raw, 2);
           std::vector<unsigned char> data;
           std::size_t                position = h * (3 + n_blocks);
           for (std::size_t b = 0; b < n_blocks; ++b)
@@ -272,8 +273,8 @@ namespace softface
               const std::size_t old = data.size();
               data.resize(old + size);
               if (position + compressed_size > raw.size() ||
-                  uncompress(&data[old], &size, &raw[position],
-                             compressed_size) != Z_OK)
+                  uncompress(
+                    &data[old], &size, &raw[position], compressed_size) != Z_OK)
                 throw Error("corrupt zlib block");
               data.resize(old + size);
               position += compressed_size;
@@ -294,8 +295,8 @@ namespace softface
     {
       try
         {
-          const VtuFile file(filename);
-          const auto    piece = file.tag_attributes("<Piece");
+          const VtuFile     file(filename);
+          const auto        piece    = file.tag_attributes("<Piece");
           const std::size_t n_points = std::stoull(piece.at("NumberOfPoints"));
           const std::size_t n_cells  = std::stoull(piece.at("NumberOfCells"));
 
@@ -305,8 +306,7 @@ namespace softface
           const std::vector<double> xyz = file.values(points[0]);
           if (xyz.size() != 3 * n_points)
             throw Error("Points holds " + std::to_string(xyz.size()) +
-                        " numbers for " + std::to_string(n_points) +
-                        " points");
+                        " numbers for " + std::to_string(n_points) + " points");
           std::vector<Point<3>> vertices(n_points);
           for (std::size_t i = 0; i < n_points; ++i)
             vertices[i] = Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
@@ -314,9 +314,8 @@ namespace softface
           std::vector<double> connectivity, offsets, types, ids;
           for (const DataArray &a : file.arrays_in("Cells"))
             {
-              const std::string name = a.attributes.count("Name") ?
-                                         a.attributes.at("Name") :
-                                         "";
+              const std::string name =
+                a.attributes.count("Name") ? a.attributes.at("Name") : "";
               if (name == "connectivity")
                 connectivity = file.values(a);
               else if (name == "offsets")
@@ -326,9 +325,8 @@ namespace softface
             }
           for (const DataArray &a : file.arrays_in("CellData"))
             {
-              const std::string name = a.attributes.count("Name") ?
-                                         a.attributes.at("Name") :
-                                         "";
+              const std::string name =
+                a.attributes.count("Name") ? a.attributes.at("Name") : "";
               if (ids.empty() &&
                   (name == "MaterialID" || name == "material_id" ||
                    name == "gmsh:physical" || name == "CellEntityIds"))

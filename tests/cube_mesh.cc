@@ -28,9 +28,10 @@ SOFTFACE_TEST(cube_mesh)
       bool         inner_vertices_in_box = true, boundary_ids_ok = true;
       for (const auto &cell : tria.active_cell_iterators())
         {
-          const double v = Mesh::signed_volume(
-            {{cell->vertex(0), cell->vertex(1), cell->vertex(2),
-              cell->vertex(3)}});
+          const double v = Mesh::signed_volume({{cell->vertex(0),
+                                                 cell->vertex(1),
+                                                 cell->vertex(2),
+                                                 cell->vertex(3)}});
           volume += v;
           if (cell->material_id() == Mesh::cube_inner_id)
             {
@@ -57,8 +58,7 @@ SOFTFACE_TEST(cube_mesh)
                             "tetrahedron count within 25% of target");
       softface_tests::check(std::abs(volume - L * L * L) < 1e-9 * L * L * L,
                             "volume is L^3");
-      softface_tests::check(std::abs(boundary_area - 6 * L * L) <
-                              1e-9 * L * L,
+      softface_tests::check(std::abs(boundary_area - 6 * L * L) < 1e-9 * L * L,
                             "boundary area is 6 L^2 (conforming)");
       softface_tests::check(std::abs(inner_volume - 1000.) < 1e-9,
                             "inner material volume is s^3");

@@ -34,13 +34,13 @@ namespace
   {
   public:
     ExactDisplacement()
-      : Function<3>(3)
+        : Function<3>(3)
     {}
     double
     value(const Point<3> &x, const unsigned int c) const override
     {
-      const double phi = std::sin(M_PI * x[0]) * std::sin(M_PI * x[1]) *
-                         std::sin(M_PI * x[2]);
+      const double phi =
+        std::sin(M_PI * x[0]) * std::sin(M_PI * x[1]) * std::sin(M_PI * x[2]);
       return phi * a[c] + (B() * x)[c];
     }
   };
@@ -55,7 +55,7 @@ namespace
     const double c[3] = {std::cos(M_PI * x[0]),
                          std::cos(M_PI * x[1]),
                          std::cos(M_PI * x[2])};
-    const double phi = s[0] * s[1] * s[2];
+    const double phi  = s[0] * s[1] * s[2];
     Tensor<2, 3> hessian;
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
@@ -89,9 +89,9 @@ SOFTFACE_TEST(manufactured_solution)
       scene.setup();
       const double lambda = scene.material.lambda(), mu = scene.material.mu();
 
-      Vector<double>         forces(scene.dof_handler.n_dofs());
-      const QGaussSimplex<3> quadrature(4);
-      FEValues<3>            fe_values(scene.mapping,
+      Vector<double>                       forces(scene.dof_handler.n_dofs());
+      const QGaussSimplex<3>               quadrature(4);
+      FEValues<3>                          fe_values(scene.mapping,
                             scene.fe,
                             quadrature,
                             update_values | update_quadrature_points |
@@ -136,21 +136,21 @@ SOFTFACE_TEST(manufactured_solution)
                                         cellwise,
                                         QGaussSimplex<3>(4),
                                         VectorTools::L2_norm);
-      errors.push_back(VectorTools::compute_global_error(
-        scene.triangulation, cellwise, VectorTools::L2_norm));
+      errors.push_back(VectorTools::compute_global_error(scene.triangulation,
+                                                         cellwise,
+                                                         VectorTools::L2_norm));
       sizes.push_back(1. / boxes);
       deallog << "h = 1/" << boxes << ": L2 error "
               << softface_tests::rounded(errors.back(), 2) << std::endl;
     }
   for (unsigned int i = 1; i < errors.size(); ++i)
-    deallog << "rate " << softface_tests::rounded(
-                            std::log(errors[i - 1] / errors[i]) /
-                              std::log(sizes[i - 1] / sizes[i]),
-                            2)
+    deallog << "rate "
+            << softface_tests::rounded(std::log(errors[i - 1] / errors[i]) /
+                                         std::log(sizes[i - 1] / sizes[i]),
+                                       2)
             << std::endl;
-  const double finest_rate = std::log(errors[errors.size() - 2] /
-                                      errors.back()) /
-                             std::log(2.);
+  const double finest_rate =
+    std::log(errors[errors.size() - 2] / errors.back()) / std::log(2.);
   softface_tests::check(finest_rate > 1.8 && finest_rate < 2.2,
                         "second-order L2 convergence on the finest meshes");
 }

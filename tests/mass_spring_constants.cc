@@ -16,7 +16,7 @@ namespace
   void
   check_springs(const std::vector<Point<3>> &points,
                 std::vector<CellData<3>>     cells,
-                const std::string &          name,
+                const std::string           &name,
                 const unsigned int           n_springs,
                 const unsigned int           n_shared)
   {
@@ -55,13 +55,10 @@ SOFTFACE_TEST(mass_spring_constants)
                                         Point<3>(-1, 1, -1),
                                         Point<3>(-1, -1, 1),
                                         Point<3>(-5. / 3, -5. / 3, -5. / 3)};
-  CellData<3> first(4), second(4);
+  CellData<3>                 first(4), second(4);
   first.vertices  = {0, 1, 2, 3};
   second.vertices = {4, 1, 2, 3};
-  check_springs({points.begin(), points.begin() + 4},
-                {first},
-                "regular tetrahedron",
-                6,
-                0);
+  check_springs(
+    {points.begin(), points.begin() + 4}, {first}, "regular tetrahedron", 6, 0);
   check_springs(points, {first, second}, "two tetrahedra", 9, 3);
 }

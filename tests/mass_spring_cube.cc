@@ -27,7 +27,8 @@ SOFTFACE_TEST(mass_spring_cube)
     guarded.setup(scene);
     Vector<double> u, u_guarded;
     msm.solve(softface_tests::move_bone(scene, Point<3>(0, 0, 6)), u);
-    guarded.solve(softface_tests::move_bone(scene, Point<3>(0, 0, 6)), u_guarded);
+    guarded.solve(softface_tests::move_bone(scene, Point<3>(0, 0, 6)),
+                  u_guarded);
     softface_tests::check(softface_tests::relative_difference(u_guarded, u) <
                             1e-12,
                           "6 mm: the guard changes nothing where nothing "
@@ -45,7 +46,7 @@ SOFTFACE_TEST(mass_spring_cube)
                              Point<3>(1, 1, 0),
                              30.,
                              Point<3>(40, 40, 40));
-    Planning planning;
+    Planning          planning;
     planning.set_motion(0, motion);
     planning.set_motion(1, motion);
     Models::MassSpring msm;
@@ -78,9 +79,9 @@ SOFTFACE_TEST(mass_spring_cube)
         }
       catch (const Error &e)
         {
-          converged     = false;
-          clear_message = std::string(e.what()).find("pending step") !=
-                          std::string::npos;
+          converged = false;
+          clear_message =
+            std::string(e.what()).find("pending step") != std::string::npos;
         }
       const std::string name = softface_tests::rounded(lift) + " mm";
       deallog << name << ": " << (converged ? "converged" : "stopped")

@@ -43,7 +43,8 @@ SOFTFACE_TEST(mass_tensor_blocks)
     {
       std::set<unsigned int> fem_neighbours;
       for (unsigned int r = 0; r < 3; ++r)
-        for (auto entry = K.begin(3 * j + r); entry != K.end(3 * j + r); ++entry)
+        for (auto entry = K.begin(3 * j + r); entry != K.end(3 * j + r);
+             ++entry)
           fem_neighbours.insert(entry->column() / 3);
       for (const unsigned int k : fem_neighbours)
         {
@@ -52,9 +53,11 @@ SOFTFACE_TEST(mass_tensor_blocks)
           for (unsigned int r = 0; r < 3; ++r)
             for (unsigned int c = 0; c < 3; ++c)
               {
-                max_entry = std::max(max_entry, std::abs(K(3 * j + r, 3 * k + c)));
-                max_difference = std::max(
-                  max_difference, std::abs(K(3 * j + r, 3 * k + c) - T[r][c]));
+                max_entry =
+                  std::max(max_entry, std::abs(K(3 * j + r, 3 * k + c)));
+                max_difference =
+                  std::max(max_difference,
+                           std::abs(K(3 * j + r, 3 * k + c) - T[r][c]));
               }
         }
       // A point three grid steps away shares no tetrahedron with j.

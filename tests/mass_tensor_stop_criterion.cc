@@ -18,7 +18,8 @@ SOFTFACE_TEST(mass_tensor_stop_criterion)
 {
   Scene scene;
   softface_tests::make_cube_scene(scene, 30000);
-  const Vector<double> lift = softface_tests::move_bone(scene, Point<3>(0, 0, 6));
+  const Vector<double> lift =
+    softface_tests::move_bone(scene, Point<3>(0, 0, 6));
   deallog << "tets: " << scene.triangulation.n_active_cells() << std::endl;
 
   Models::MassTensor active, everyone, jacobi;

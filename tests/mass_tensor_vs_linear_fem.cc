@@ -35,7 +35,8 @@ SOFTFACE_TEST(mass_tensor_vs_linear_fem)
       Vector<double> difference = u;
       difference -= reference;
       softface_tests::check(difference.linfty_norm() < 1e-6,
-                            "relaxation " + softface_tests::rounded(relaxation) +
+                            "relaxation " +
+                              softface_tests::rounded(relaxation) +
                               ": converged MTM equals linear FEM to 1e-6 mm");
     }
 }

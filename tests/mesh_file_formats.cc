@@ -56,7 +56,7 @@ SOFTFACE_TEST(mesh_file_formats)
   softface_tests::make_cube_scene(original, 6 * 16 * 16 * 16);
   const auto reference = by_position(original, lift(original));
 
-  GridOut grid_out;
+  GridOut           grid_out;
   GridOutFlags::Vtk vtk_flags;
   vtk_flags.output_cells = true;
   vtk_flags.output_faces = true;
@@ -83,7 +83,7 @@ SOFTFACE_TEST(mesh_file_formats)
       Scene scene;
       Mesh::read_file(filename, scene.triangulation);
       scene.mesh_description = filename;
-      scene.segments = original.segments;
+      scene.segments         = original.segments;
       scene.setup();
 
       deallog << extension << ": " << scene.triangulation.n_active_cells()
@@ -98,8 +98,8 @@ SOFTFACE_TEST(mesh_file_formats)
           scene.n_join_vertices(1) == original.n_join_vertices(1),
         extension + ": same cells, vertices and join points");
 
-      const auto u   = by_position(scene, lift(scene));
-      double     max = 0.;
+      const auto u             = by_position(scene, lift(scene));
+      double     max           = 0.;
       bool       same_vertices = (u.size() == reference.size());
       for (const auto &[key, d] : u)
         {

@@ -17,10 +17,10 @@ using namespace softface;
 namespace
 {
   void
-  run_case(const std::string &   name,
-           const Scene &         scene,
+  run_case(const std::string    &name,
+           const Scene          &scene,
            const Vector<double> &prescribed,
-           const std::string &   law)
+           const std::string    &law)
   {
     Models::NonlinearFEM model;
     model.set_options(law, "direct");
@@ -37,9 +37,9 @@ namespace
       }
     catch (const Error &e)
       {
-        outcome           = "stopped";
+        outcome             = "stopped";
         const std::string m = e.what();
-        ok = m.find("load step") != std::string::npos &&
+        ok                  = m.find("load step") != std::string::npos &&
              m.find("residual") != std::string::npos;
       }
     deallog << name << " (" << law << "): " << outcome << std::endl;
@@ -72,8 +72,8 @@ SOFTFACE_TEST(nonlinear_hard_cases)
   // Slivers: interior vertices pushed pseudo-randomly by the largest
   // fraction of the grid spacing (tried from 40% down) that inverts no cell.
   Scene sliver;
-  sliver.segments = {{"fixed", {}, {Mesh::cube_outer_face}},
-                     {"bone", {Mesh::cube_inner_id}, {}}};
+  sliver.segments  = {{"fixed", {}, {Mesh::cube_outer_face}},
+                      {"bone", {Mesh::cube_inner_id}, {}}};
   double amplitude = 0.40;
   for (;; amplitude -= 0.02)
     {
@@ -82,11 +82,10 @@ SOFTFACE_TEST(nonlinear_hard_cases)
       Mesh::generate_cube(cube, sliver.triangulation);
       GridTools::transform(
         [amplitude](const Point<3> &x) {
-          const bool interior =
-            x[0] > 0 && x[0] < 80 && x[1] > 0 && x[1] < 80 && x[2] > 0 &&
-            x[2] < 80 &&
-            !(x[0] >= 35 && x[0] <= 45 && x[1] >= 35 && x[1] <= 45 &&
-              x[2] >= 35 && x[2] <= 45);
+          const bool interior = x[0] > 0 && x[0] < 80 && x[1] > 0 &&
+                                x[1] < 80 && x[2] > 0 && x[2] < 80 &&
+                                !(x[0] >= 35 && x[0] <= 45 && x[1] >= 35 &&
+                                  x[1] <= 45 && x[2] >= 35 && x[2] <= 45);
           if (!interior)
             return x;
           const double h = 80. / 11;
@@ -107,7 +106,7 @@ SOFTFACE_TEST(nonlinear_hard_cases)
   double worst = 1e300;
   for (const auto &cell : sliver.triangulation.active_cell_iterators())
     {
-      const auto x = LinearElasticity::cell_vertices(cell);
+      const auto x       = LinearElasticity::cell_vertices(cell);
       double     longest = 0.;
       for (unsigned int a = 0; a < 4; ++a)
         for (unsigned int b = 0; b < a; ++b)

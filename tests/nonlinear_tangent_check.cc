@@ -67,6 +67,7 @@ SOFTFACE_TEST(nonlinear_tangent_check)
       error -= finite_difference;
       deallog << law << ": |K d| > 0: " << (K_d.l2_norm() > 0) << std::endl;
       softface_tests::check(error.l2_norm() < 1e-6 * K_d.l2_norm(),
-                            law + ": tangent equals finite differences to 1e-6");
+                            law +
+                              ": tangent equals finite differences to 1e-6");
     }
 }

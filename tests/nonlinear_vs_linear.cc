@@ -16,8 +16,9 @@ using namespace softface;
 namespace
 {
   double
-  max_difference_to_linear(const Scene &scene, const Vector<double> &prescribed,
-                           const std::string &law)
+  max_difference_to_linear(const Scene          &scene,
+                           const Vector<double> &prescribed,
+                           const std::string    &law)
   {
     Models::LinearFEM linear;
     linear.set_solver("direct", 0.);
@@ -60,9 +61,11 @@ SOFTFACE_TEST(nonlinear_vs_linear)
     Mesh::generate_cube(cube, scene.triangulation);
     scene.segments = {{"bone", {Mesh::cube_inner_id}, {}}};
     scene.setup();
-    const RigidMotion motion(Point<3>(1, 2, -1), Point<3>(1, 1, 1), 30.,
+    const RigidMotion motion(Point<3>(1, 2, -1),
+                             Point<3>(1, 1, 1),
+                             30.,
                              Point<3>(40, 40, 40));
-    Planning planning;
+    Planning          planning;
     planning.set_motion(0, motion);
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 

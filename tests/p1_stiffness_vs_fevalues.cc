@@ -1,8 +1,8 @@
-// The closed-form P1 element stiffness (LinearElasticity::tetrahedron_stiffness)
-// against deal.II's own integration: FEValues on FESystem(FE_SimplexP<3>(1),3)
-// with MappingFE and QGaussSimplex, assembled over a whole small cube mesh.
-// Independent truth: the textbook bilinear form lambda div u div v + 2 mu
-// eps(u):eps(v) integrated by deal.II.
+// The closed-form P1 element stiffness
+// (LinearElasticity::tetrahedron_stiffness) against deal.II's own integration:
+// FEValues on FESystem(FE_SimplexP<3>(1),3) with MappingFE and QGaussSimplex,
+// assembled over a whole small cube mesh. Independent truth: the textbook
+// bilinear form lambda div u div v + 2 mu eps(u):eps(v) integrated by deal.II.
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -18,7 +18,7 @@ using namespace softface;
 
 SOFTFACE_TEST(p1_stiffness_vs_fevalues)
 {
-  Scene scene;
+  Scene                scene;
   Mesh::CubeParameters cube;
   cube.target_n_tetrahedra = 400;
   Mesh::generate_cube(cube, scene.triangulation);
@@ -30,7 +30,7 @@ SOFTFACE_TEST(p1_stiffness_vs_fevalues)
                           0.6 * std::sin(0.1 * v[0] * v[1]));
     },
     scene.triangulation);
-  scene.segments = {{"outer", {}, {Mesh::cube_outer_face}}};
+  scene.segments                = {{"outer", {}, {Mesh::cube_outer_face}}};
   scene.material.poissons_ratio = 0.46;
   scene.setup();
   const double lambda = scene.material.lambda(), mu = scene.material.mu();
@@ -40,8 +40,10 @@ SOFTFACE_TEST(p1_stiffness_vs_fevalues)
   SparseMatrix<double> closed_form(sparsity), integrated(sparsity);
   LinearElasticity::assemble_stiffness(scene, closed_form);
 
-  const QGaussSimplex<3> quadrature(2);
-  FEValues<3>            fe_values(scene.mapping, scene.fe, quadrature,
+  const QGaussSimplex<3>               quadrature(2);
+  FEValues<3>                          fe_values(scene.mapping,
+                        scene.fe,
+                        quadrature,
                         update_gradients | update_JxW_values);
   const FEValuesExtractors::Vector     u(0);
   FullMatrix<double>                   local(12, 12);
@@ -69,11 +71,10 @@ SOFTFACE_TEST(p1_stiffness_vs_fevalues)
     for (auto entry = integrated.begin(row); entry != integrated.end(row);
          ++entry)
       {
-        max_entry = std::max(max_entry, std::abs(entry->value()));
-        max_difference =
-          std::max(max_difference,
-                   std::abs(entry->value() -
-                            closed_form(row, entry->column())));
+        max_entry      = std::max(max_entry, std::abs(entry->value()));
+        max_difference = std::max(max_difference,
+                                  std::abs(entry->value() -
+                                           closed_form(row, entry->column())));
       }
   deallog << "cells: " << scene.triangulation.n_active_cells()
           << ", DoFs: " << scene.dof_handler.n_dofs() << std::endl;

@@ -36,7 +36,7 @@ SOFTFACE_TEST(patch_test)
   const Tensor<1, 3> b = Point<3>(0.5, -1., 2.);
 
   Vector<double> exact(scene.dof_handler.n_dofs());
-  const auto &   vertices = scene.triangulation.get_vertices();
+  const auto    &vertices = scene.triangulation.get_vertices();
   for (unsigned int v = 0; v < vertices.size(); ++v)
     for (unsigned int c = 0; c < 3; ++c)
       exact[scene.vertex_dofs()[v][c]] = (A * vertices[v] + b)[c];

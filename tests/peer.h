@@ -44,7 +44,8 @@ namespace softface_tests
         for (long long j = -1; j <= 1; ++j)
           for (long long k = -1; k <= 1; ++k)
             {
-              const auto bin = vertices_in.find({{b[0] + i, b[1] + j, b[2] + k}});
+              const auto bin =
+                vertices_in.find({{b[0] + i, b[1] + j, b[2] + k}});
               if (bin != vertices_in.end())
                 for (const unsigned int v : bin->second)
                   if (best == numbers::invalid_unsigned_int ||

@@ -7,8 +7,8 @@
 
 #include <deal.II/base/utilities.h>
 
-#include <softface/models/linear_fem.h>
 #include <softface/models/interface.h>
+#include <softface/models/linear_fem.h>
 #include <softface/planning.h>
 #include <softface/scene.h>
 #include <softface/simulator.h>
@@ -39,12 +39,12 @@ SOFTFACE_TEST(peer_calculix_cube30k)
 
   const Vector<double> linear =
     softface_tests::read_peer(scene,
-              softface_tests::source_file(
-                "data/cube30k/calculix_lin_displacements.csv"));
+                              softface_tests::source_file(
+                                "data/cube30k/calculix_lin_displacements.csv"));
   const Vector<double> nonlinear =
     softface_tests::read_peer(scene,
-              softface_tests::source_file(
-                "data/cube30k/calculix_nl_displacements.csv"));
+                              softface_tests::source_file(
+                                "data/cube30k/calculix_nl_displacements.csv"));
   const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
   auto model = Models::create("linear fem", prm);

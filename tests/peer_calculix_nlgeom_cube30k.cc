@@ -24,12 +24,14 @@ SOFTFACE_TEST(peer_calculix_nlgeom_cube30k)
   Planning planning;
   planning.parse_parameters(prm, scene);
   const Vector<double> prescribed = planning.prescribed_displacement(scene);
-  const Vector<double> nlgeom     = softface_tests::read_peer(
-    scene,
-    softface_tests::source_file("data/cube30k/calculix_nl_displacements.csv"));
-  const Vector<double> linear = softface_tests::read_peer(
-    scene,
-    softface_tests::source_file("data/cube30k/calculix_lin_displacements.csv"));
+  const Vector<double> nlgeom =
+    softface_tests::read_peer(scene,
+                              softface_tests::source_file(
+                                "data/cube30k/calculix_nl_displacements.csv"));
+  const Vector<double> linear =
+    softface_tests::read_peer(scene,
+                              softface_tests::source_file(
+                                "data/cube30k/calculix_lin_displacements.csv"));
 
   for (const std::string solver : {"direct", "cg amg"})
     {
@@ -38,11 +40,13 @@ SOFTFACE_TEST(peer_calculix_nlgeom_cube30k)
       model.setup(scene);
       Vector<double> u;
       model.solve(prescribed, u);
-      softface_tests::check(
-        softface_tests::relative_difference(u, nlgeom) < 1e-4,
-        solver + ": equals CalculiX NLGEOM to 1e-4 relative");
-      softface_tests::check(
-        softface_tests::relative_difference(u, linear) > 1e-2,
-        solver + ": differs from CalculiX linear by over 1e-2");
+      softface_tests::check(softface_tests::relative_difference(u, nlgeom) <
+                              1e-4,
+                            solver +
+                              ": equals CalculiX NLGEOM to 1e-4 relative");
+      softface_tests::check(softface_tests::relative_difference(u, linear) >
+                              1e-2,
+                            solver +
+                              ": differs from CalculiX linear by over 1e-2");
     }
 }

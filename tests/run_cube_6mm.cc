@@ -45,7 +45,7 @@ SOFTFACE_TEST(run_cube_6mm)
   const std::string out = "run_cube_6mm_output";
   std::filesystem::remove_all(out);
   std::ostringstream log;
-  auto *             old = std::cout.rdbuf(log.rdbuf());
+  auto              *old = std::cout.rdbuf(log.rdbuf());
   const int          rc =
     Simulator::run(softface_tests::source_file("run_cube_6mm.prm"));
   std::cout.rdbuf(old);
@@ -61,22 +61,22 @@ SOFTFACE_TEST(run_cube_6mm)
     "summary.csv: documented header and one row");
   deallog << "model " << summary[1][0] << ", tets " << summary[1][1]
           << ", vertices " << summary[1][2] << ", free DoFs " << summary[1][3]
-          << ", max |u| " << softface_tests::rounded(
-                               Utilities::string_to_double(summary[1][7]), 6)
+          << ", max |u| "
+          << softface_tests::rounded(Utilities::string_to_double(summary[1][7]),
+                                     6)
           << std::endl;
 
-  const auto nodal = read_csv(out + "/displacements_linear_fem.csv");
+  const auto         nodal = read_csv(out + "/displacements_linear_fem.csv");
   const unsigned int n_vertices = Utilities::string_to_int(summary[1][2]);
   softface_tests::check(nodal.size() == n_vertices + 1 &&
-                          joined(nodal[0]) ==
-                            "x,y,z,ux,uy,uz",
+                          joined(nodal[0]) == "x,y,z,ux,uy,uz",
                         "nodal CSV: header and one row per vertex");
   unsigned int n_bone = 0, n_fixed = 0, n_wrong = 0, n_free = 0;
   for (unsigned int r = 1; r < nodal.size(); ++r)
     {
-      const auto v = Utilities::string_to_double(nodal[r]);
-      const bool on_face =
-        std::min({v[0], v[1], v[2]}) == 0. || std::max({v[0], v[1], v[2]}) == 80.;
+      const auto v       = Utilities::string_to_double(nodal[r]);
+      const bool on_face = std::min({v[0], v[1], v[2]}) == 0. ||
+                           std::max({v[0], v[1], v[2]}) == 80.;
       const bool in_bone = std::min({v[0], v[1], v[2]}) >= 35. &&
                            std::max({v[0], v[1], v[2]}) <= 45.;
       if (on_face)
@@ -95,7 +95,8 @@ SOFTFACE_TEST(run_cube_6mm)
   deallog << "vertices: " << n_fixed << " on the faces, " << n_bone
           << " in the bone, " << n_free << " free" << std::endl;
   softface_tests::check(n_wrong == 0, "join points move exactly as planned");
-  softface_tests::check(int(3 * n_free) == Utilities::string_to_int(summary[1][3]),
+  softface_tests::check(int(3 * n_free) ==
+                          Utilities::string_to_int(summary[1][3]),
                         "free DoFs = 3 x free vertices");
 
   std::ifstream      vtu(out + "/solution.vtu");

@@ -21,23 +21,21 @@ namespace softface_tests
     Mesh::generate_cube(cube, scene.triangulation);
     scene.mesh_description = "generated cube";
     scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}},
-                      {"bone", {Mesh::cube_inner_id}, {}}};
+                              {"bone", {Mesh::cube_inner_id}, {}}};
     scene.setup();
   }
 
   /// The seed's planning: the inner cube moves by @p translation, rotated by
   /// @p angle degrees about z through the cube's centre.
   inline Vector<double>
-  move_bone(const Scene &     scene,
-            const Point<3> &  translation,
-            const double      angle = 0.)
+  move_bone(const Scene    &scene,
+            const Point<3> &translation,
+            const double    angle = 0.)
   {
     Planning planning;
-    planning.set_motion(1,
-                        RigidMotion(translation,
-                                    Point<3>(0, 0, 1),
-                                    angle,
-                                    Point<3>(40, 40, 40)));
+    planning.set_motion(
+      1,
+      RigidMotion(translation, Point<3>(0, 0, 1), angle, Point<3>(40, 40, 40)));
     return planning.prescribed_displacement(scene);
   }
 

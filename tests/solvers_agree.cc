@@ -14,7 +14,8 @@ SOFTFACE_TEST(solvers_agree)
 {
   Scene scene;
   softface_tests::make_cube_scene(scene, 8000);
-  const Vector<double> lift = softface_tests::move_bone(scene, Point<3>(0, 0, 6));
+  const Vector<double> lift =
+    softface_tests::move_bone(scene, Point<3>(0, 0, 6));
   deallog << "tets: " << scene.triangulation.n_active_cells()
           << ", free DoFs: " << scene.n_free_dofs() << std::endl;
 
@@ -31,9 +32,9 @@ SOFTFACE_TEST(solvers_agree)
       model.setup(scene);
       Vector<double> u;
       model.solve(lift, u);
-      softface_tests::check(
-        softface_tests::relative_difference(u, reference) < 1e-8,
-        solver + " agrees with direct to 1e-8 relative");
+      softface_tests::check(softface_tests::relative_difference(u, reference) <
+                              1e-8,
+                            solver + " agrees with direct to 1e-8 relative");
     }
 
   // A second planning: rotation by 10 degrees plus a sideways shift.

@@ -49,10 +49,10 @@ namespace softface_tests
   }
 } // namespace softface_tests
 
-#define SOFTFACE_TEST(name)                                        \
-  static void        softface_test_##name();                       \
-  static const bool softface_test_registered_##name =              \
-    softface_tests::register_test(#name, &softface_test_##name);   \
+#define SOFTFACE_TEST(name)                                      \
+  static void       softface_test_##name();                      \
+  static const bool softface_test_registered_##name =            \
+    softface_tests::register_test(#name, &softface_test_##name); \
   static void softface_test_##name()
 
 #endif

@@ -8,8 +8,8 @@
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
-#include <softface/mesh.h>
 #include "tests.h"
+#include <softface/mesh.h>
 
 using namespace softface;
 
@@ -19,23 +19,26 @@ SOFTFACE_TEST(vtu_formats)
        {"ascii", "binary_zlib", "appended_raw", "appended_zlib"})
     {
       Triangulation<3> tria;
-      Mesh::read_file(
-        softface_tests::source_file("data/vtu/cube6_" + name + ".vtu"), tria);
+      Mesh::read_file(softface_tests::source_file("data/vtu/cube6_" + name +
+                                                  ".vtu"),
+                      tria);
       Mesh::check_cells(tria, name);
-      double       volume = 0.;
+      double       volume       = 0.;
       unsigned int n_material_7 = 0, n_id_3 = 0, n_id_4 = 0, n_bottom = 0;
       for (const auto &cell : tria.active_cell_iterators())
         {
-          volume += Mesh::signed_volume(
-            {{cell->vertex(0), cell->vertex(1), cell->vertex(2),
-              cell->vertex(3)}});
+          volume += Mesh::signed_volume({{cell->vertex(0),
+                                          cell->vertex(1),
+                                          cell->vertex(2),
+                                          cell->vertex(3)}});
           n_material_7 += (cell->material_id() == 7);
           for (const auto &face : cell->face_iterators())
             if (face->at_boundary())
               {
                 n_id_3 += (face->boundary_id() == 3);
                 n_id_4 += (face->boundary_id() == 4);
-                n_bottom += (face->center()[2] == 0.) && (face->boundary_id() == 3);
+                n_bottom +=
+                  (face->center()[2] == 0.) && (face->boundary_id() == 3);
               }
         }
       deallog << name << ": " << tria.n_active_cells() << " cells, "

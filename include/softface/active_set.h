@@ -17,7 +17,7 @@ namespace softface
   {
   public:
     explicit ActiveSet(const unsigned int n_points)
-      : queued_in(n_points, 0)
+        : queued_in(n_points, 0)
     {}
 
     /// Visit @p point in the next sweep (again queuing it does nothing).

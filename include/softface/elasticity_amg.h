@@ -17,11 +17,11 @@ namespace softface
    * DoFs. Shared by the linear and the nonlinear FEM models.
    */
   void
-    initialize_elasticity_amg(const Scene                          &scene,
-                              const TrilinosWrappers::SparseMatrix &matrix,
-                              const double       aggregation_threshold,
-                              const unsigned int smoother_sweeps,
-                              TrilinosWrappers::PreconditionAMG &amg);
+  initialize_elasticity_amg(const Scene                          &scene,
+                            const TrilinosWrappers::SparseMatrix &matrix,
+                            const double       aggregation_threshold,
+                            const unsigned int smoother_sweeps,
+                            TrilinosWrappers::PreconditionAMG &amg);
 } // namespace softface
 
 #endif

@@ -15,7 +15,7 @@ namespace softface
   {
   public:
     explicit Error(const std::string &message)
-      : std::runtime_error(message)
+        : std::runtime_error(message)
     {}
   };
 

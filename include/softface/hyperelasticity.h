@@ -38,8 +38,8 @@ namespace softface
     /// What one tetrahedron contributes at a displacement.
     struct CellResponse
     {
-      double                                  energy = 0.;
-      std::array<Tensor<1, 3>, 4>             force;   ///< f_a = V P grad N_a
+      double                                 energy = 0.;
+      std::array<Tensor<1, 3>, 4>            force;   ///< f_a = V P grad N_a
       LinearElasticity::TetrahedronStiffness tangent; ///< d f_a / d u_b
     };
 
@@ -57,7 +57,7 @@ namespace softface
                   const double                       volume,
                   const std::array<Tensor<1, 3>, 4> &u,
                   const bool                         with_tangent,
-                  CellResponse &                     response);
+                  CellResponse                      &response);
   } // namespace Hyperelasticity
 } // namespace softface
 

@@ -44,8 +44,8 @@ namespace softface
     /// Add a 12x12 cell matrix (blocks K[a][b]) at the DoFs of its vertices.
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const TetrahedronStiffness &                   K,
-                    SparseMatrix<double> &                         matrix);
+                    const TetrahedronStiffness                    &K,
+                    SparseMatrix<double>                          &matrix);
 
     /// The local indices 0..11 ordered by their DoF.
     std::array<std::uint8_t, 12>
@@ -54,9 +54,9 @@ namespace softface
     /// The same, with the order precomputed (sorted_order(dofs)).
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const std::array<std::uint8_t, 12> &           order,
-                    const TetrahedronStiffness &                   K,
-                    SparseMatrix<double> &                         matrix);
+                    const std::array<std::uint8_t, 12>            &order,
+                    const TetrahedronStiffness                    &K,
+                    SparseMatrix<double>                          &matrix);
 
     /**
      * Eliminate the join DoFs symmetrically: zero their rows and columns,
@@ -65,7 +65,7 @@ namespace softface
      */
     void
     eliminate_join_dofs(const std::vector<bool> &is_join,
-                        SparseMatrix<double> &   matrix);
+                        SparseMatrix<double>    &matrix);
 
     /// The unconstrained global stiffness matrix (sparsity already set).
     void

@@ -39,14 +39,14 @@ namespace softface
       void
       parse_parameters(ParameterHandler &prm);
 
-      double       edge_length               = 80.;
-      double       inner_size                = 10.;
-      unsigned int target_n_tetrahedra       = 30000;
+      double       edge_length         = 80.;
+      double       inner_size          = 10.;
+      unsigned int target_n_tetrahedra = 30000;
     };
 
     void
     generate_cube(const CubeParameters &parameters,
-                  Triangulation<3> &    triangulation);
+                  Triangulation<3>     &triangulation);
 
     /**
      * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
@@ -63,7 +63,7 @@ namespace softface
      */
     void
     check_cells(const Triangulation<3> &triangulation,
-                const std::string &     source);
+                const std::string      &source);
 
     /// Signed volume of the tetrahedron (positive for deal.II's orientation).
     double

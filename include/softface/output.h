@@ -48,29 +48,29 @@ namespace softface
     /// relative_residual, phases and details ("name=value" pairs joined by
     /// ';': each model's own figures, e.g. Newton iterations per load step).
     void
-    write_summary_csv(const Scene &                scene,
+    write_summary_csv(const Scene                 &scene,
                       const std::vector<ModelRun> &runs,
-                      const std::string &          filename);
+                      const std::string           &filename);
 
     void
-    print_summary_table(const Scene &                scene,
+    print_summary_table(const Scene                 &scene,
                         const std::vector<ModelRun> &runs,
-                        std::ostream &               out);
+                        std::ostream                &out);
 
     /**
      * One VTU with every model's displacement ("displacement_<model>"), the
      * join/free flag (1 = join) and the segment id (-1 = free) per vertex.
      */
     void
-    write_vtu(const Scene &                scene,
+    write_vtu(const Scene                 &scene,
               const std::vector<ModelRun> &runs,
-              const std::string &          filename);
+              const std::string           &filename);
 
     /// Columns x,y,z,ux,uy,uz: one row per vertex, reference coordinates.
     void
-    write_nodal_displacements(const Scene &         scene,
+    write_nodal_displacements(const Scene          &scene,
                               const Vector<double> &displacement,
-                              const std::string &   filename);
+                              const std::string    &filename);
   } // namespace Output
 } // namespace softface
 

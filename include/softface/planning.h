@@ -25,7 +25,7 @@ namespace softface
   public:
     /// One subsection "Motion <name>" for each name in @p moved_segments.
     static void
-    declare_parameters(ParameterHandler &              prm,
+    declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &moved_segments);
 
     /// The names listed in "Planning/Moved segments" of a parsed handler.

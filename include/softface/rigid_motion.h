@@ -20,7 +20,7 @@ namespace softface
     RigidMotion(const Tensor<1, 3> &translation,
                 const Tensor<1, 3> &axis,
                 const double        angle_in_degrees,
-                const Point<3> &    centre);
+                const Point<3>     &centre);
 
     Point<3>
     operator()(const Point<3> &x) const;

@@ -50,7 +50,7 @@ namespace softface
      * declared for each name in @p segment_names.
      */
     static void
-    declare_parameters(ParameterHandler &              prm,
+    declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &segment_names);
 
     /// The names listed in "Scene/Bone segments" of a parsed handler.

@@ -23,7 +23,7 @@ namespace softface
      * those names, then strictly with everything declared.
      */
     static void
-    declare_parameters(ParameterHandler &              prm,
+    declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &segment_names,
                        const std::vector<std::string> &moved_segments);
 

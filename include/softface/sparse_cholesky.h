@@ -51,8 +51,8 @@ namespace softface
 
   private:
     // CHOLMOD's types stay out of this header.
-    void *      common;
-    void *      factor;
+    void       *common;
+    void       *factor;
     std::size_t n_rows    = 0;
     std::size_t n_entries = 0;
   };

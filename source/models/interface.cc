@@ -22,8 +22,7 @@ namespace softface
     } // namespace
 
     bool
-    internal::register_model(const std::string &name,
-                             Registration       registration)
+    internal::register_model(const std::string &name, Registration registration)
     {
       Assert(registry().count(name) == 0,
              ExcMessage("Model '" + name + "' is registered twice."));

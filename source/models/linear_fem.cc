@@ -3,9 +3,9 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 
+#include <softface/elasticity_amg.h>
 #include <softface/error.h>
 #include <softface/linear_elasticity.h>
-#include <softface/elasticity_amg.h>
 #include <softface/models/linear_fem.h>
 
 
@@ -117,16 +117,13 @@ namespace softface
     LinearFEM::setup_amg()
     {
       trilinos_matrix.reinit(constrained_stiffness);
-      initialize_elasticity_amg(*scene,
-                                trilinos_matrix,
-                                aggregation_threshold,
-                                smoother_sweeps,
-                                amg);
+      initialize_elasticity_amg(
+        *scene, trilinos_matrix, aggregation_threshold, smoother_sweeps, amg);
     }
 
     void
     LinearFEM::solve(const Vector<double> &prescribed,
-                     Vector<double> &      displacement)
+                     Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("LinearFEM::setup() first."));
       Timer                    timer;
@@ -148,7 +145,7 @@ namespace softface
         if (is_join[i])
           rhs[i] = constrained_stiffness.diag_element(i) * join_values[i];
 
-      displacement = join_values;
+      displacement     = join_values;
       stats.iterations = 1;
       if (solver_name == "direct")
         direct.solve(rhs, displacement);
@@ -176,8 +173,10 @@ namespace softface
             }
           catch (const SolverControl::NoConvergence &e)
             {
-              throw Error("linear fem (" + solver_name + "): no convergence "
-                          "in " + std::to_string(e.last_step) +
+              throw Error("linear fem (" + solver_name +
+                          "): no convergence "
+                          "in " +
+                          std::to_string(e.last_step) +
                           " iterations; relative residual reached " +
                           std::to_string(e.last_residual / rhs.l2_norm()) +
                           " (tolerance " + std::to_string(relative_tolerance) +
@@ -228,4 +227,3 @@ namespace softface
                             "direct factorisation.")
   } // namespace Models
 } // namespace softface
-

@@ -113,7 +113,8 @@ namespace softface
         {
           const double L0 =
             rest_position[edge.first].distance(rest_position[edge.second]);
-          spring_list.push_back({edge.first, edge.second, L0, E * volume / (L0 * L0)});
+          spring_list.push_back(
+            {edge.first, edge.second, L0, E * volume / (L0 * L0)});
         }
 
       std::vector<unsigned int> count(n + 1, 0);
@@ -128,7 +129,7 @@ namespace softface
       total_stiffness.assign(n, 0.);
       for (unsigned int i = 0; i < spring_list.size(); ++i)
         {
-          const Spring &s = spring_list[i];
+          const Spring &s      = spring_list[i];
           other_end[fill[s.a]] = s.b, spring_of[fill[s.a]++] = i;
           other_end[fill[s.b]] = s.a, spring_of[fill[s.b]++] = i;
           total_stiffness[s.a] += s.stiffness;
@@ -142,7 +143,8 @@ namespace softface
       for (unsigned int j = 0; j < n; ++j)
         tet_start[j + 1] += tet_start[j];
       tets_of_point.resize(tet_start[n]);
-      std::vector<unsigned int> next_slot(tet_start.begin(), tet_start.end() - 1);
+      std::vector<unsigned int> next_slot(tet_start.begin(),
+                                          tet_start.end() - 1);
       for (unsigned int t = 0; t < tetrahedra.size(); ++t)
         for (const unsigned int p : tetrahedra[t])
           tets_of_point[next_slot[p]++] = t;
@@ -154,7 +156,7 @@ namespace softface
 
     void
     MassSpring::solve(const Vector<double> &prescribed,
-                      Vector<double> &      displacement)
+                      Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("MassSpring::setup() first."));
       Timer              timer;
@@ -168,7 +170,7 @@ namespace softface
         shortest = std::numeric_limits<double>::max();
         for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
           {
-            const Spring &     s      = spring_list[spring_of[i]];
+            const Spring      &s      = spring_list[spring_of[i]];
             const Tensor<1, 3> d      = x[other_end[i]] - x[j];
             const double       length = d.norm();
             shortest                  = std::min(shortest, length);
@@ -181,22 +183,24 @@ namespace softface
       // free neighbours, flipping springs before any free point has moved.
       // The motion is applied in load steps, each shorter than the step
       // bound of the shortest spring at a moving join point.
-      double       largest_motion = 0., shortest_at_join = 1e300;
+      double                    largest_motion = 0., shortest_at_join = 1e300;
       std::vector<unsigned int> moving_joins;
       for (unsigned int j = 0; j < n; ++j)
         if (!is_free[j])
           {
-            const double motion = std::sqrt(prescribed[3 * j] * prescribed[3 * j] +
-                                            prescribed[3 * j + 1] * prescribed[3 * j + 1] +
-                                            prescribed[3 * j + 2] * prescribed[3 * j + 2]);
+            const double motion =
+              std::sqrt(prescribed[3 * j] * prescribed[3 * j] +
+                        prescribed[3 * j + 1] * prescribed[3 * j + 1] +
+                        prescribed[3 * j + 2] * prescribed[3 * j + 2]);
             if (motion == 0.)
               continue;
             moving_joins.push_back(j);
             largest_motion = std::max(largest_motion, motion);
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
               if (is_free[other_end[i]])
-                shortest_at_join = std::min(
-                  shortest_at_join, spring_list[spring_of[i]].rest_length);
+                shortest_at_join =
+                  std::min(shortest_at_join,
+                           spring_list[spring_of[i]].rest_length);
           }
       const unsigned int n_load_steps =
         moving_joins.empty() ?
@@ -216,17 +220,18 @@ namespace softface
             initial += force(j, shortest).norm_square();
           }
 
-      ActiveSet                 active(n);
-      unsigned long long        blocked_updates = 0;
-      unsigned int              sweep         = 0;
-      unsigned long long        point_updates = 0;
+      ActiveSet          active(n);
+      unsigned long long blocked_updates = 0;
+      unsigned int       sweep           = 0;
+      unsigned long long point_updates   = 0;
       for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
         {
           const double fraction = double(load_step) / n_load_steps;
           for (const unsigned int j : moving_joins)
             {
               for (unsigned int c = 0; c < 3; ++c)
-                x[j][c] = rest_position[j][c] + fraction * prescribed[3 * j + c];
+                x[j][c] =
+                  rest_position[j][c] + fraction * prescribed[3 * j + c];
               for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                 {
                   const unsigned int k = other_end[i];
@@ -243,9 +248,9 @@ namespace softface
                 {
                   double pending = 0., shortest;
                   for (const unsigned int j : *current)
-                    pending = std::max(pending,
-                                       force(j, shortest).norm() /
-                                         total_stiffness[j]);
+                    pending =
+                      std::max(pending,
+                               force(j, shortest).norm() / total_stiffness[j]);
                   std::ostringstream m;
                   m << "mass spring: " << max_sweeps
                     << " sweeps were not enough (load step " << load_step
@@ -277,11 +282,12 @@ namespace softface
                   // Springs alone do not keep a tetrahedron from turning
                   // inside out (seed 2.2, disadvantage 1): a step that would
                   // invert one is halved until it does not, or not taken.
-                  const Point<3> old = x[j];
+                  const Point<3> old      = x[j];
                   unsigned int   halvings = 0;
-                  for (; halvings < 8 && prevent_inversion; ++halvings, step *= 0.5)
+                  for (; halvings < 8 && prevent_inversion;
+                       ++halvings, step *= 0.5)
                     {
-                      x[j]           = old + step;
+                      x[j]          = old + step;
                       bool inverted = false;
                       for (unsigned int t = tet_start[j];
                            t < tet_start[j + 1] && !inverted;
@@ -289,7 +295,8 @@ namespace softface
                         {
                           const auto &v = tetrahedra[tets_of_point[t]];
                           inverted =
-                            Mesh::signed_volume({{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
+                            Mesh::signed_volume(
+                              {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
                         }
                       if (!inverted)
                         break;
@@ -304,8 +311,7 @@ namespace softface
                     }
                   // Its own force and its neighbours' forces have changed.
                   active.queue(j);
-                  for (unsigned int i = row_start[j]; i < row_start[j + 1];
-                       ++i)
+                  for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                     if (is_free[other_end[i]])
                       active.queue(other_end[i]);
                 }
@@ -321,7 +327,7 @@ namespace softface
       last_report.sweeps        = sweep;
       last_report.load_steps    = n_load_steps;
       last_report.point_updates = point_updates;
-      double residual = 0.;
+      double residual           = 0.;
       for (unsigned int j = 0; j < n; ++j)
         if (is_free[j])
           {
@@ -340,7 +346,8 @@ namespace softface
       stats.solve_time = timer.wall_time();
       stats.details.resize(1);
       stats.details.emplace_back("load steps", std::to_string(n_load_steps));
-      stats.details.emplace_back("point updates", std::to_string(point_updates));
+      stats.details.emplace_back("point updates",
+                                 std::to_string(point_updates));
       std::ostringstream s;
       s << std::setprecision(3) << last_report.max_step << " mm";
       stats.details.emplace_back("largest pending step", s.str());

@@ -165,7 +165,7 @@ namespace softface
       unsigned int c = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          const auto &p = cell_points[c++];
+          const auto                                  &p = cell_points[c++];
           const LinearElasticity::TetrahedronStiffness K =
             LinearElasticity::tetrahedron_stiffness(
               LinearElasticity::cell_vertices(cell), lambda, mu);
@@ -177,9 +177,8 @@ namespace softface
                   {
                     const auto begin = neighbour.begin() + row_start[p[a]];
                     const auto end   = neighbour.begin() + row_start[p[a] + 1];
-                    target =
-                      &coupling[std::lower_bound(begin, end, p[b]) -
-                                neighbour.begin()];
+                    target = &coupling[std::lower_bound(begin, end, p[b]) -
+                                       neighbour.begin()];
                   }
                 for (unsigned int r = 0; r < 3; ++r)
                   for (unsigned int s = 0; s < 3; ++s)
@@ -215,15 +214,15 @@ namespace softface
 
     void
     MassTensor::solve(const Vector<double> &prescribed,
-                      Vector<double> &      displacement)
+                      Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("MassTensor::setup() first."));
       Timer              timer;
-      const unsigned int n = diagonal.size();
-      const double threshold = stop_gradient_threshold > 0. ?
-                                 stop_gradient_threshold :
-                                 convergence_tolerance;
-      const unsigned int W = gradient_window;
+      const unsigned int n         = diagonal.size();
+      const double       threshold = stop_gradient_threshold > 0. ?
+                                       stop_gradient_threshold :
+                                       convergence_tolerance;
+      const unsigned int W         = gradient_window;
 
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
@@ -247,17 +246,19 @@ namespace softface
         if (is_free[j])
           {
             bool touched = !use_active_set;
-            for (unsigned int i = row_start[j]; i < row_start[j + 1] && !touched;
+            for (unsigned int i = row_start[j];
+                 i < row_start[j + 1] && !touched;
                  ++i)
               {
                 const unsigned int k = neighbour[i];
-                touched = !is_free[k] && (u[3 * k] != 0. || u[3 * k + 1] != 0. ||
-                                          u[3 * k + 2] != 0.);
+                touched =
+                  !is_free[k] &&
+                  (u[3 * k] != 0. || u[3 * k + 1] != 0. || u[3 * k + 2] != 0.);
               }
             if (touched)
               active.queue(j);
           }
-      const std::vector<unsigned int> all_free = active.next_sweep();
+      const std::vector<unsigned int>  all_free = active.next_sweep();
       const std::vector<unsigned int> &current =
         use_active_set ? active.current() : all_free;
 
@@ -272,12 +273,11 @@ namespace softface
               double g = 0.;
               for (const unsigned int j : current)
                 g = std::max(g, step_sum[j] / W);
-              throw Error("mass tensor: " + std::to_string(max_sweeps) +
-                          " sweeps were not enough; " +
-                          std::to_string(current.size()) +
-                          " points are still active, largest gradient " +
-                          format(g) + " mm per sweep (threshold " +
-                          format(threshold) + ").");
+              throw Error(
+                "mass tensor: " + std::to_string(max_sweeps) +
+                " sweeps were not enough; " + std::to_string(current.size()) +
+                " points are still active, largest gradient " + format(g) +
+                " mm per sweep (threshold " + format(threshold) + ").");
             }
           ++sweep;
           point_updates += current.size();
@@ -298,14 +298,14 @@ namespace softface
                   f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
                   f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
                 }
-              const double *D = diagonal_inverse[j].data();
-              double *      uj   = u + 3 * j;
+              const double *D    = diagonal_inverse[j].data();
+              double       *uj   = u + 3 * j;
               const double  w    = relaxation;
               const double  v[3] = {
-                uj[0] + w * (-(D[0] * f0 + D[1] * f1 + D[2] * f2) - uj[0]),
-                uj[1] + w * (-(D[3] * f0 + D[4] * f1 + D[5] * f2) - uj[1]),
-                uj[2] + w * (-(D[6] * f0 + D[7] * f1 + D[8] * f2) - uj[2])};
-              const double  step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
+                 uj[0] + w * (-(D[0] * f0 + D[1] * f1 + D[2] * f2) - uj[0]),
+                 uj[1] + w * (-(D[3] * f0 + D[4] * f1 + D[5] * f2) - uj[1]),
+                 uj[2] + w * (-(D[6] * f0 + D[7] * f1 + D[8] * f2) - uj[2])};
+              const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
                                             (v[1] - uj[1]) * (v[1] - uj[1]) +
                                             (v[2] - uj[2]) * (v[2] - uj[2]));
               if (!(step <= divergence_bound))
@@ -323,8 +323,8 @@ namespace softface
                 jacobi_values[q] = {{v[0], v[1], v[2]}};
 
               // seed 2.3.3: the gradient over the point's last W updates.
-              double &slot = steps[static_cast<std::size_t>(j) * W +
-                                  n_updates[j] % W];
+              double &slot =
+                steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
               step_sum[j] += step - slot;
               slot = step;
               ++n_updates[j];
@@ -365,8 +365,8 @@ namespace softface
                 const double *uk = u + 3 * neighbour[i];
                 for (unsigned int a = 0; a < 3; ++a)
                   {
-                    const double t =
-                      B[3 * a] * uk[0] + B[3 * a + 1] * uk[1] + B[3 * a + 2] * uk[2];
+                    const double t = B[3 * a] * uk[0] + B[3 * a + 1] * uk[1] +
+                                     B[3 * a + 2] * uk[2];
                     r[a] += t;
                     if (!is_free[neighbour[i]])
                       f[a] += t;
@@ -376,7 +376,8 @@ namespace softface
             const double *uj = u + 3 * j;
             for (unsigned int a = 0; a < 3; ++a)
               {
-                r[a] += B[3 * a] * uj[0] + B[3 * a + 1] * uj[1] + B[3 * a + 2] * uj[2];
+                r[a] += B[3 * a] * uj[0] + B[3 * a + 1] * uj[1] +
+                        B[3 * a + 2] * uj[2];
                 residual += r[a] * r[a];
                 initial += f[a] * f[a];
               }
@@ -395,7 +396,8 @@ namespace softface
       stats.residual   = initial > 0. ? std::sqrt(residual / initial) : 0.;
       stats.solve_time = timer.wall_time();
       stats.details.resize(1); // keep the tensor memory from setup()
-      stats.details.emplace_back("point updates", std::to_string(point_updates));
+      stats.details.emplace_back("point updates",
+                                 std::to_string(point_updates));
       stats.details.emplace_back(
         "ns per update",
         format(point_updates ? 1e9 * sweep_time / point_updates : 0., 3));
@@ -419,17 +421,17 @@ namespace softface
                 double d = 0.;
                 for (unsigned int c = 0; c < 3; ++c)
                   d += std::pow(u[3 * j + c] - reference[3 * j + c], 2);
-                d = std::sqrt(d);
+                d   = std::sqrt(d);
                 max = std::max(max, d);
                 sum += d;
                 ++n_free;
               }
           last_report.precision_max  = max;
           last_report.precision_mean = n_free ? sum / n_free : 0.;
-          stats.details.emplace_back("precision max",
-                                     format(max, 3) + " mm");
-          stats.details.emplace_back(
-            "precision mean", format(last_report.precision_mean, 3) + " mm");
+          stats.details.emplace_back("precision max", format(max, 3) + " mm");
+          stats.details.emplace_back("precision mean",
+                                     format(last_report.precision_mean, 3) +
+                                       " mm");
           stats.details.emplace_back("reference s",
                                      format(reference_timer.wall_time(), 3));
         }

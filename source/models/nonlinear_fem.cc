@@ -19,14 +19,15 @@ namespace softface
     void
     NonlinearFEM::declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry("Material law",
-                        "neo-hooke",
-                        Patterns::Selection("st venant-kirchhoff|neo-hooke"),
-                        "'st venant-kirchhoff' (the seed's, and CalculiX's "
-                        "*ELASTIC with NLGEOM; softens under strong "
-                        "compression) or compressible 'neo-hooke' (stiffens "
-                        "under compression). Lame parameters from Young's "
-                        "modulus and Poisson's ratio as for the linear models.");
+      prm.declare_entry(
+        "Material law",
+        "neo-hooke",
+        Patterns::Selection("st venant-kirchhoff|neo-hooke"),
+        "'st venant-kirchhoff' (the seed's, and CalculiX's "
+        "*ELASTIC with NLGEOM; softens under strong "
+        "compression) or compressible 'neo-hooke' (stiffens "
+        "under compression). Lame parameters from Young's "
+        "modulus and Poisson's ratio as for the linear models.");
       prm.declare_entry("Solver",
                         "cg amg",
                         Patterns::Selection("direct|cg amg|gmres amg"),
@@ -66,15 +67,16 @@ namespace softface
     void
     NonlinearFEM::parse_parameters(ParameterHandler &prm)
     {
-      law                   = Hyperelasticity::law_from_name(prm.get("Material law"));
-      solver_name           = prm.get("Solver");
+      law         = Hyperelasticity::law_from_name(prm.get("Material law"));
+      solver_name = prm.get("Solver");
       initial_increment     = prm.get_double("Initial load increment");
       minimum_increment     = prm.get_double("Minimum load increment");
       max_newton_iterations = prm.get_integer("Maximum Newton iterations");
       residual_tolerance    = prm.get_double("Residual tolerance");
       linear_tolerance      = prm.get_double("Linear tolerance");
       if (!(initial_increment > 0.))
-        throw Error("nonlinear fem: 'Initial load increment' must be positive.");
+        throw Error(
+          "nonlinear fem: 'Initial load increment' must be positive.");
     }
 
     void
@@ -135,8 +137,8 @@ namespace softface
             {
               // A square pattern stores the diagonal first, then the other
               // columns ascending: one merge along the row finds all twelve.
-              const auto row = dofs[r];
-              auto       entry = sparsity.begin(row);
+              const auto row      = dofs[r];
+              auto       entry    = sparsity.begin(row);
               const auto diagonal = entry->global_index();
               ++entry;
               for (const unsigned int q : order)
@@ -170,7 +172,7 @@ namespace softface
 
     bool
     NonlinearFEM::evaluate(const Vector<double> &u,
-                           Vector<double> &      forces,
+                           Vector<double>       &forces,
                            SparseMatrix<double> *tangent_matrix) const
     {
       const double lambda = scene->material.lambda(), mu = scene->material.mu();
@@ -231,8 +233,8 @@ namespace softface
 
     bool
     NonlinearFEM::linear_solve(const Vector<double> &rhs,
-                               Vector<double> &      solution,
-                               std::string &         reason)
+                               Vector<double>       &solution,
+                               std::string          &reason)
     {
       Timer timer;
       solution.reinit(rhs.size());
@@ -248,7 +250,10 @@ namespace softface
         }
       else
         {
-          SolverControl control(2000, linear_tolerance * rhs.l2_norm(), false, false);
+          SolverControl control(2000,
+                                linear_tolerance * rhs.l2_norm(),
+                                false,
+                                false);
           try
             {
               if (solver_name == "cg amg")
@@ -294,7 +299,7 @@ namespace softface
       bool evaluated = false;
       for (unsigned int it = 0; it <= max_newton_iterations; ++it)
         {
-          Timer assembly;
+          Timer      assembly;
           const bool first = (it == 0);
           if (!evaluated && !evaluate(u, forces, &tangent))
             {
@@ -344,11 +349,11 @@ namespace softface
             {
               trial = u;
               trial.add(alpha, du);
-              Timer line_search;
+              Timer      line_search;
               const bool valid = evaluate(trial, trial_forces, &tangent);
               time_assembly += line_search.wall_time();
-              if (valid &&
-                  (first || free_norm(trial_forces) <= (1. - 1e-4 * alpha) * residual))
+              if (valid && (first || free_norm(trial_forces) <=
+                                       (1. - 1e-4 * alpha) * residual))
                 accepted = true;
               if (first)
                 break;
@@ -371,14 +376,14 @@ namespace softface
 
     void
     NonlinearFEM::solve(const Vector<double> &prescribed,
-                        Vector<double> &      displacement)
+                        Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("NonlinearFEM::setup() first."));
       Timer                    timer;
       const std::vector<bool> &is_join = scene->join_dofs();
       const unsigned int       n       = is_join.size();
-      last_report     = Report();
-      reference_force = 0.;
+      last_report                      = Report();
+      reference_force                  = 0.;
       time_assembly = time_linear = 0.;
 
       Vector<double> join_motion(n);
@@ -396,7 +401,7 @@ namespace softface
           const StepResult step = newton(displacement, target);
           if (step.converged)
             {
-              load = next;
+              load      = next;
               converged = displacement;
               ++last_report.load_steps;
               last_report.newton_iterations += step.iterations;
@@ -422,8 +427,8 @@ namespace softface
                           "neo-hooke" :
                           "st venant-kirchhoff")
                     << ", " << solver_name << "): load step "
-                    << last_report.load_steps + 1 << " failed at load "
-                    << next << " of the planning: " << step.reason
+                    << last_report.load_steps + 1 << " failed at load " << next
+                    << " of the planning: " << step.reason
                     << " (relative residual " << step.residual
                     << "); the increment fell below " << minimum_increment
                     << " after " << last_report.cutbacks

@@ -87,8 +87,8 @@ namespace softface
     {
       struct Registration
       {
-        std::string                                  description;
-        std::function<void(ParameterHandler &)>      declare_parameters;
+        std::string                                 description;
+        std::function<void(ParameterHandler &)>     declare_parameters;
         std::function<std::unique_ptr<Interface>()> factory;
       };
 
@@ -103,17 +103,17 @@ namespace softface
  * needs a default constructor and a static declare_parameters(prm) that
  * declares the entries of its own subsection (the handler is inside it).
  */
-#define SOFTFACE_REGISTER_MODEL(classname, name, description)            \
-  namespace                                                               \
-  {                                                                       \
-    const bool softface_registered_##classname =                          \
-      softface::Models::internal::register_model(                         \
-        name,                                                             \
-        {description,                                                     \
-         &classname::declare_parameters,                                  \
-         []() -> std::unique_ptr<softface::Models::Interface> {           \
-           return std::make_unique<classname>();                          \
-         }});                                                             \
+#define SOFTFACE_REGISTER_MODEL(classname, name, description)   \
+  namespace                                                     \
+  {                                                             \
+    const bool softface_registered_##classname =                \
+      softface::Models::internal::register_model(               \
+        name,                                                   \
+        {description,                                           \
+         &classname::declare_parameters,                        \
+         []() -> std::unique_ptr<softface::Models::Interface> { \
+           return std::make_unique<classname>();                \
+         }});                                                   \
   }
 
 #endif

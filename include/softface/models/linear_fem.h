@@ -44,7 +44,7 @@ namespace softface
       setup(const Scene &scene) override;
       void
       solve(const Vector<double> &prescribed,
-            Vector<double> &      displacement) override;
+            Vector<double>       &displacement) override;
 
       /// Set the solver in code ("gmres jacobi", "cg amg" or "direct").
       void
@@ -71,10 +71,10 @@ namespace softface
 
       const Scene *scene = nullptr;
 
-      std::string  solver_name        = "cg amg";
-      double       relative_tolerance = 1e-10;
-      unsigned int max_iterations     = 10000;
-      unsigned int gmres_restart      = 50;
+      std::string  solver_name           = "cg amg";
+      double       relative_tolerance    = 1e-10;
+      unsigned int max_iterations        = 10000;
+      unsigned int gmres_restart         = 50;
       double       aggregation_threshold = 0.02;
       unsigned int smoother_sweeps       = 2;
 

@@ -42,7 +42,7 @@ namespace softface
       setup(const Scene &scene) override;
       void
       solve(const Vector<double> &prescribed,
-            Vector<double> &      displacement) override;
+            Vector<double>       &displacement) override;
 
       void
       set_stop_threshold(const double threshold_mm);
@@ -66,32 +66,32 @@ namespace softface
         double             max_step      = 0.; ///< |F|/sum k at the end, mm
         /// Tetrahedra turned inside out at the end (a flipped spring
         /// inverts the tetrahedra around it).
-        unsigned int       inverted_tetrahedra  = 0;
+        unsigned int inverted_tetrahedra = 0;
         /// Updates not taken because every halving of the step would have
         /// inverted a tetrahedron.
-        unsigned long long blocked_updates      = 0;
+        unsigned long long blocked_updates = 0;
       };
       const Report &
       report() const;
 
     private:
-      double       stop_threshold = 1e-3;
+      double       stop_threshold    = 1e-3;
       double       max_step_fraction = 0.25;
-      unsigned int max_sweeps     = 200000;
+      unsigned int max_sweeps        = 200000;
       bool         prevent_inversion = false;
 
-      const Scene *scene = nullptr;
+      const Scene        *scene = nullptr;
       std::vector<Spring> spring_list;
       // Per point: its springs (CSR), the other end and the spring index.
-      std::vector<unsigned int> row_start;
-      std::vector<unsigned int> other_end;
-      std::vector<unsigned int> spring_of;
-      std::vector<double>       total_stiffness;
-      std::vector<Point<3>>     rest_position;
-      std::vector<bool>         is_free;
+      std::vector<unsigned int>                row_start;
+      std::vector<unsigned int>                other_end;
+      std::vector<unsigned int>                spring_of;
+      std::vector<double>                      total_stiffness;
+      std::vector<Point<3>>                    rest_position;
+      std::vector<bool>                        is_free;
       std::vector<std::array<unsigned int, 4>> tetrahedra;
-      std::vector<unsigned int> tet_start;
-      std::vector<unsigned int> tets_of_point;
+      std::vector<unsigned int>                tet_start;
+      std::vector<unsigned int>                tets_of_point;
 
       Report last_report;
     };

@@ -43,7 +43,7 @@ namespace softface
       setup(const Scene &scene) override;
       void
       solve(const Vector<double> &prescribed,
-            Vector<double> &      displacement) override;
+            Vector<double>       &displacement) override;
 
       /// Set the solution scheme in code (tests, benchmarks).
       void

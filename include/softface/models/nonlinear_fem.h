@@ -49,7 +49,7 @@ namespace softface
       setup(const Scene &scene) override;
       void
       solve(const Vector<double> &prescribed,
-            Vector<double> &      displacement) override;
+            Vector<double>       &displacement) override;
 
       /// Set the main options in code (tests, benchmarks).
       void
@@ -64,7 +64,7 @@ namespace softface
        */
       bool
       evaluate(const Vector<double> &u,
-               Vector<double> &      forces,
+               Vector<double>       &forces,
                SparseMatrix<double> *tangent) const;
 
       const SparsityPattern &
@@ -86,7 +86,7 @@ namespace softface
       /// Outcome of one load step's Newton solve.
       struct StepResult
       {
-        bool         converged = false;
+        bool         converged  = false;
         unsigned int iterations = 0;
         double       residual   = 0.;
         std::string  reason;
@@ -95,24 +95,24 @@ namespace softface
       newton(Vector<double> &u, const Vector<double> &target);
       bool
       linear_solve(const Vector<double> &rhs,
-                   Vector<double> &      solution,
-                   std::string &         reason);
+                   Vector<double>       &solution,
+                   std::string          &reason);
       double
       free_norm(const Vector<double> &v) const;
 
-      Hyperelasticity::Law law = Hyperelasticity::Law::neo_hooke;
-      std::string          solver_name            = "cg amg";
-      double               initial_increment      = 1.;
-      double               minimum_increment      = 1e-3;
-      unsigned int         max_newton_iterations  = 20;
-      double               residual_tolerance     = 1e-10;
-      double               linear_tolerance       = 1e-6;
+      Hyperelasticity::Law law               = Hyperelasticity::Law::neo_hooke;
+      std::string          solver_name       = "cg amg";
+      double               initial_increment = 1.;
+      double               minimum_increment = 1e-3;
+      unsigned int         max_newton_iterations = 20;
+      double               residual_tolerance    = 1e-10;
+      double               linear_tolerance      = 1e-6;
 
-      const Scene *scene = nullptr;
+      const Scene                                         *scene = nullptr;
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
-      std::vector<std::array<Tensor<1, 3>, 4>>            cell_gradients;
-      std::vector<double>                                 cell_volumes;
-      std::vector<unsigned int>                           cell_entry_positions;
+      std::vector<std::array<Tensor<1, 3>, 4>>             cell_gradients;
+      std::vector<double>                                  cell_volumes;
+      std::vector<unsigned int>                            cell_entry_positions;
 
       SparsityPattern                   sparsity;
       SparseMatrix<double>              tangent;
