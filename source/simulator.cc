@@ -154,23 +154,26 @@ namespace softface
     for (unsigned int m = 0; m < models.size(); ++m)
       {
         auto &[name, model] = models[m];
-        std::cout << "  [" << m + 1 << '/' << models.size() << "] " << name
-                  << ": setup" << std::flush;
+        const std::string tag =
+          "  [" + std::to_string(m + 1) + '/' + std::to_string(models.size()) +
+          "] " + name + ": ";
         try
           {
             model->setup(scene);
-            std::cout << " " << model->statistics().setup_time << " s, solve"
-                      << std::flush;
+            std::cout << tag << "setup " << model->statistics().setup_time
+                      << " s" << std::endl;
+            model->set_progress_stream(&std::cout);
             Output::ModelRun run;
             run.model = name;
             model->solve(prescribed, run.displacement);
             run.statistics = model->statistics();
-            std::cout << " " << run.statistics.solve_time << " s" << std::endl;
+            std::cout << tag << "solve " << run.statistics.solve_time << " s"
+                      << std::endl;
             runs.push_back(std::move(run));
           }
         catch (const Error &e)
           {
-            std::cout << " failed" << std::endl;
+            std::cout << tag << "failed" << std::endl;
             std::cerr << "softface: error: " << e.what() << std::endl;
             failures.push_back(name);
           }

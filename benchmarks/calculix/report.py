@@ -36,7 +36,7 @@ def main():
                 continue
             text = open(log).read()
             wall = float(open(os.path.join(out, f"softface_{tag}.wall")).read().split()[-1])
-            ok = "failed" not in text and "error" not in text
+            ok = "softface: error:" not in text
             reason = ""
             for line in text.splitlines():
                 if line.startswith("softface: error:"):

@@ -40,6 +40,12 @@ namespace softface
       return stats;
     }
 
+    void
+    Interface::set_progress_stream(std::ostream *stream)
+    {
+      progress = stream;
+    }
+
     std::vector<std::string>
     registered_names()
     {

@@ -262,6 +262,13 @@ namespace softface
                 }
               ++sweep;
               point_updates += current->size();
+              if (progress != nullptr && sweep % 1000 == 0)
+                *progress << "      sweep " + std::to_string(sweep) +
+                               " (load step " + std::to_string(load_step) +
+                               " of " + std::to_string(n_load_steps) +
+                               "): " + std::to_string(current->size()) +
+                               " active points\n"
+                          << std::flush;
               for (const unsigned int j : *current)
                 {
                   double             shortest;

@@ -281,6 +281,10 @@ namespace softface
             }
           ++sweep;
           point_updates += current.size();
+          if (progress != nullptr && sweep % 1000 == 0)
+            *progress << "      sweep " + std::to_string(sweep) + ": " +
+                           std::to_string(current.size()) + " active points\n"
+                      << std::flush;
           if (!gauss_seidel)
             jacobi_values.resize(current.size());
 

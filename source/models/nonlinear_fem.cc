@@ -10,6 +10,7 @@
 #include <softface/models/nonlinear_fem.h>
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace softface
@@ -407,6 +408,15 @@ namespace softface
               last_report.newton_iterations += step.iterations;
               last_report.iterations_per_step.push_back(step.iterations);
               last_report.final_residual = step.residual;
+              if (progress != nullptr)
+                {
+                  std::ostringstream line;
+                  line << "      load step " << last_report.load_steps
+                       << ": load " << load << ", " << step.iterations
+                       << " Newton iterations, relative residual "
+                       << std::setprecision(2) << step.residual << '\n';
+                  *progress << line.str() << std::flush;
+                }
               if (step.iterations <= 4)
                 increment *= 2.;
               increment = std::min(increment, 1. - load);
@@ -417,6 +427,13 @@ namespace softface
             {
               displacement = converged;
               ++last_report.cutbacks;
+              if (progress != nullptr)
+                {
+                  std::ostringstream line;
+                  line << "      load " << next << " failed (" << step.reason
+                       << "), cutting back\n";
+                  *progress << line.str() << std::flush;
+                }
               last_report.newton_iterations += step.iterations;
               increment /= 2.;
               if (increment < minimum_increment)

@@ -7,6 +7,7 @@
 #include <softface/scene.h>
 
 #include <functional>
+#include <ostream>
 #include <memory>
 #include <string>
 #include <utility>
@@ -59,8 +60,16 @@ namespace softface
       const Statistics &
       statistics() const;
 
+      /**
+       * Where a long solve reports its progress (load steps, sweeps); none
+       * by default. The simulator points it at stdout.
+       */
+      void
+      set_progress_stream(std::ostream *stream);
+
     protected:
-      Statistics stats;
+      Statistics    stats;
+      std::ostream *progress = nullptr;
     };
 
     /// Names of all registered models, in alphabetical order.
