@@ -1,3 +1,7 @@
+#include <deal.II/dofs/dof_accessor.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+
 #include <softface/error.h>
 #include <softface/hyperelasticity.h>
 
@@ -105,6 +109,132 @@ namespace softface
                                         lambda * Hg[a][i] * Hg[c][k] -
                                         c2 * Hg[c][i] * Hg[a][k]);
               }
+        }
+      return true;
+    }
+
+    bool
+    material_response(const Law           law,
+                      const double        lambda,
+                      const double        mu,
+                      const Tensor<2, 3> &F,
+                      Tensor<2, 3>       &P,
+                      Tensor<4, 3>       *A)
+    {
+      const double J = determinant(F);
+      if (!(J > 0.))
+        return false;
+      const Tensor<2, 3> I = unit_symmetric_tensor<3>();
+      if (law == Law::st_venant_kirchhoff)
+        {
+          const Tensor<2, 3> E = 0.5 * (transpose(F) * F - I);
+          const Tensor<2, 3> S = lambda * trace(E) * I + 2. * mu * E;
+          P                    = F * S;
+          if (A != nullptr)
+            {
+              // The same derivative as cell_response() (see there).
+              const Tensor<2, 3> b = F * transpose(F);
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int J_ = 0; J_ < 3; ++J_)
+                  for (unsigned int k = 0; k < 3; ++k)
+                    for (unsigned int L = 0; L < 3; ++L)
+                      (*A)[i][J_][k][L] = (i == k ? S[L][J_] : 0.) +
+                                          lambda * F[i][J_] * F[k][L] +
+                                          mu * F[i][L] * F[k][J_] +
+                                          (J_ == L ? mu * b[i][k] : 0.);
+            }
+        }
+      else
+        {
+          const Tensor<2, 3> H     = transpose(invert(F)); // F^-T
+          const double       log_J = std::log(J);
+          P                        = mu * F + (lambda * log_J - mu) * H;
+          if (A != nullptr)
+            {
+              const double c2 = lambda * log_J - mu;
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int J_ = 0; J_ < 3; ++J_)
+                  for (unsigned int k = 0; k < 3; ++k)
+                    for (unsigned int L = 0; L < 3; ++L)
+                      (*A)[i][J_][k][L] =
+                        (i == k && J_ == L ? mu : 0.) +
+                        lambda * H[i][J_] * H[k][L] - c2 * H[k][J_] * H[i][L];
+            }
+        }
+      return true;
+    }
+
+    bool
+    assemble(const Law             law,
+             const double          lambda,
+             const double          mu,
+             const Mapping<3>     &mapping,
+             const DoFHandler<3>  &dof_handler,
+             const Quadrature<3>  &quadrature,
+             const Vector<double> &u,
+             Vector<double>       &forces,
+             SparseMatrix<double> *tangent)
+    {
+      const FiniteElement<3> &fe = dof_handler.get_fe();
+      FEValues<3>             fe_values(mapping,
+                            fe,
+                            quadrature,
+                            update_gradients | update_JxW_values);
+      const unsigned int      n = fe.n_dofs_per_cell();
+      std::vector<types::global_dof_index> dofs(n);
+      std::vector<unsigned int>            component(n);
+      for (unsigned int i = 0; i < n; ++i)
+        component[i] = fe.system_to_component_index(i).first;
+      std::vector<double>       u_cell(n);
+      std::vector<Tensor<1, 3>> grad(n);
+      Vector<double>            f_cell(n);
+      FullMatrix<double>        K_cell(n, n);
+      Tensor<2, 3>              P;
+      Tensor<4, 3>              A;
+
+      forces.reinit(u.size());
+      if (tangent != nullptr)
+        *tangent = 0;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < n; ++i)
+            u_cell[i] = u[dofs[i]];
+          f_cell = 0;
+          K_cell = 0;
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              Tensor<2, 3> F = unit_symmetric_tensor<3>();
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  grad[i] = fe_values.shape_grad(i, q);
+                  F[component[i]] += u_cell[i] * grad[i];
+                }
+              if (!material_response(
+                    law, lambda, mu, F, P, tangent != nullptr ? &A : nullptr))
+                return false;
+              const double JxW = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                f_cell[i] += (P[component[i]] * grad[i]) * JxW;
+              if (tangent == nullptr)
+                continue;
+              // K_ij = grad_i . A[c_i][.][c_j][.] . grad_j, contracted with
+              // grad_i first so that the inner loop is three products.
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  Tensor<2, 3> G; // G[k][L] = grad_i[J] A[c_i][J][k][L]
+                  for (unsigned int J_ = 0; J_ < 3; ++J_)
+                    G += grad[i][J_] * A[component[i]][J_];
+                  G *= JxW;
+                  for (unsigned int j = 0; j < n; ++j)
+                    K_cell(i, j) += G[component[j]] * grad[j];
+                }
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            forces[dofs[i]] += f_cell[i];
+          if (tangent != nullptr)
+            tangent->add(dofs, K_cell);
         }
       return true;
     }

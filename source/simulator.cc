@@ -5,6 +5,7 @@
 #include <softface/models/interface.h>
 #include <softface/output.h>
 #include <softface/planning.h>
+#include <softface/point_evaluation.h>
 #include <softface/scene.h>
 #include <softface/simulator.h>
 
@@ -40,6 +41,18 @@ namespace softface
                           "Write displacements_<model>.csv with columns "
                           "x,y,z,ux,uy,uz (mm), one row per vertex in "
                           "reference coordinates.");
+        prm.declare_entry(
+          "Evaluation points",
+          "",
+          Patterns::Anything(),
+          "CSV file whose first three columns are x,y,z (mm, reference "
+          "configuration; a header line is skipped), e.g. the "
+          "displacements_*.csv of another run. If set, every model's "
+          "displacement there is written to evaluation_<model>.csv: "
+          "interpolated with the model's shape functions (linear, or "
+          "quadratic for 'Polynomial degree = 2'). Relative paths are "
+          "taken from the parameter file's folder. Points must lie in the "
+          "mesh.");
         prm.leave_subsection();
       }
 
@@ -50,12 +63,14 @@ namespace softface
         directory                 = prm.get("Output directory");
         write_vtu                 = prm.get_bool("Write VTU");
         write_nodal_displacements = prm.get_bool("Write nodal displacements");
+        evaluation_points         = prm.get("Evaluation points");
         prm.leave_subsection();
       }
 
       std::string directory;
       bool        write_vtu                 = true;
       bool        write_nodal_displacements = false;
+      std::string evaluation_points;
     };
 
     // The names a file lists in a given entry, read tolerantly (pass one).
@@ -146,6 +161,19 @@ namespace softface
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
+    std::unique_ptr<PointEvaluation> evaluation;
+    if (!output.evaluation_points.empty())
+      {
+        std::filesystem::path points_file(output.evaluation_points);
+        if (points_file.is_relative() && !input_directory.empty())
+          points_file = std::filesystem::path(input_directory) / points_file;
+        evaluation = std::make_unique<PointEvaluation>(
+          scene.triangulation, read_points_csv(points_file.string()));
+        std::cout << "  " << evaluation->points().size()
+                  << " evaluation points from " << points_file.string()
+                  << std::endl;
+      }
+
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says
     // that something failed.
@@ -169,6 +197,17 @@ namespace softface
             run.statistics = model->statistics();
             std::cout << tag << "solve " << run.statistics.solve_time << " s"
                       << std::endl;
+            if (evaluation)
+              {
+                const auto [field_dofs, field] = model->displacement_field();
+                write_point_values_csv(
+                  evaluation->points(),
+                  field_dofs != nullptr ?
+                    evaluation->evaluate(*field_dofs, *field) :
+                    evaluation->evaluate(scene.dof_handler, run.displacement),
+                  output.directory + "/evaluation_" +
+                    Output::file_name_of(name) + ".csv");
+              }
             runs.push_back(std::move(run));
           }
         catch (const Error &e)

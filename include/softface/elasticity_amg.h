@@ -22,6 +22,18 @@ namespace softface
                             const double       aggregation_threshold,
                             const unsigned int smoother_sweeps,
                             TrilinosWrappers::PreconditionAMG &amg);
+
+  /**
+   * The same for any layout of a three-component field, given every DoF's
+   * support point and component (e.g. the quadratic reference solution).
+   */
+  void
+  initialize_elasticity_amg(const std::vector<Point<3>>          &dof_points,
+                            const std::vector<unsigned int>      &dof_component,
+                            const TrilinosWrappers::SparseMatrix &matrix,
+                            const double       aggregation_threshold,
+                            const unsigned int smoother_sweeps,
+                            TrilinosWrappers::PreconditionAMG &amg);
 } // namespace softface
 
 #endif

@@ -1,7 +1,12 @@
 #ifndef softface_hyperelasticity_h
 #define softface_hyperelasticity_h
 
+#include <deal.II/base/quadrature.h>
 #include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
 
 #include <softface/linear_elasticity.h>
 
@@ -58,6 +63,37 @@ namespace softface
                   const std::array<Tensor<1, 3>, 4> &u,
                   const bool                         with_tangent,
                   CellResponse                      &response);
+
+    /**
+     * First Piola-Kirchhoff stress P(F) and, if @p A is not null, its
+     * derivative A_iJkL = dP_iJ / dF_kL at one material point. Returns false
+     * if det F <= 0.
+     */
+    bool
+    material_response(const Law           law,
+                      const double        lambda,
+                      const double        mu,
+                      const Tensor<2, 3> &F,
+                      Tensor<2, 3>       &P,
+                      Tensor<4, 3>       *A);
+
+    /**
+     * Nodal forces (and, if @p tangent is not null, the tangent, added into
+     * it) of the displacement @p u on any vector-valued element of
+     * @p dof_handler, by quadrature: what the quadratic reference solution
+     * uses; on P1 it reproduces cell_response(). Returns false if det F <= 0
+     * at a quadrature point.
+     */
+    bool
+    assemble(const Law               law,
+             const double            lambda,
+             const double            mu,
+             const Mapping<3>       &mapping,
+             const DoFHandler<3>    &dof_handler,
+             const Quadrature<3>    &quadrature,
+             const Vector<double>   &u,
+             Vector<double>         &forces,
+             SparseMatrix<double>   *tangent);
   } // namespace Hyperelasticity
 } // namespace softface
 

@@ -34,6 +34,12 @@ namespace softface
     Interface::parse_parameters(ParameterHandler &)
     {}
 
+    std::pair<const DoFHandler<3> *, const Vector<double> *>
+    Interface::displacement_field() const
+    {
+      return {nullptr, nullptr};
+    }
+
     const Statistics &
     Interface::statistics() const
     {

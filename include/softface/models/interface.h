@@ -61,6 +61,15 @@ namespace softface
       statistics() const;
 
       /**
+       * The displacement field between the vertices, for evaluation at
+       * arbitrary points: a model on its own layout (the quadratic
+       * reference) returns it here; by default nothing, and the vertex
+       * values solve() returned are interpolated linearly.
+       */
+      virtual std::pair<const DoFHandler<3> *, const Vector<double> *>
+      displacement_field() const;
+
+      /**
        * Where a long solve reports its progress (load steps, sweeps); none
        * by default. The simulator points it at stdout.
        */

@@ -1,6 +1,9 @@
 #ifndef softface_models_nonlinear_fem_h
 #define softface_models_nonlinear_fem_h
 
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/trilinos_precondition.h>
@@ -11,6 +14,7 @@
 #include <softface/sparse_cholesky.h>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -36,6 +40,15 @@ namespace softface
      * Linear solves: "direct" (CHOLMOD, its ordering reused across Newton
      * iterations), "cg amg" or "gmres amg" (preconditioned by ML built once
      * on the linear stiffness, with the rigid-body modes).
+     *
+     * With "Polynomial degree = 2" the same equations are solved with
+     * quadratic tetrahedra (FE_SimplexP<3>(2), forces and tangent by
+     * quadrature) on a layout of the model's own: the converged reference of
+     * the accuracy benchmark. A DoF is a join DoF if it lies on a bone
+     * segment's cell or boundary face; it follows the segment's rigid
+     * motion, which is affine, so its value is the interpolation of the
+     * join points' prescribed displacement. solve() returns the vertex
+     * values; displacement_field() gives the whole quadratic field.
      */
     class NonlinearFEM : public Interface
     {
@@ -55,7 +68,16 @@ namespace softface
       void
       set_options(const std::string &law,
                   const std::string &solver,
-                  const double       initial_increment = 1.);
+                  const double       initial_increment = 1.,
+                  const unsigned int polynomial_degree = 1);
+
+      /// The quadratic field after solve() with degree 2, else nothing.
+      std::pair<const DoFHandler<3> *, const Vector<double> *>
+      displacement_field() const override;
+
+      /// The DoFs the model solves for (3 per vertex for degree 1).
+      unsigned int
+      n_dofs() const;
 
       /**
        * Internal nodal forces at @p u (all DoFs) and, if @p tangent is not
@@ -99,6 +121,8 @@ namespace softface
                    std::string          &reason);
       double
       free_norm(const Vector<double> &v) const;
+      void
+      setup_quadratic(Timer &timer);
 
       Hyperelasticity::Law law               = Hyperelasticity::Law::neo_hooke;
       std::string          solver_name       = "cg amg";
@@ -107,12 +131,25 @@ namespace softface
       unsigned int         max_newton_iterations = 20;
       double               residual_tolerance    = 1e-10;
       double               linear_tolerance      = 1e-6;
+      unsigned int         degree                = 1;
 
       const Scene                                         *scene = nullptr;
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
       std::vector<std::array<Tensor<1, 3>, 4>>             cell_gradients;
       std::vector<double>                                  cell_volumes;
       std::vector<unsigned int>                            cell_entry_positions;
+      /// True for the join DoFs of the layout solved on.
+      std::vector<bool> is_join;
+
+      // Degree 2 only: the layout, each DoF's value as a combination of the
+      // vertex DoFs of its cell (for the prescribed motion), the DoF at each
+      // vertex DoF (for the returned vertex values), and the solution.
+      std::unique_ptr<FESystem<3>>   quadratic_fe;
+      std::unique_ptr<DoFHandler<3>> quadratic_dofs;
+      std::vector<std::array<std::pair<types::global_dof_index, double>, 4>>
+                                           from_vertex_dofs;
+      std::vector<types::global_dof_index> at_vertex_dof;
+      Vector<double>                       quadratic_solution;
 
       SparsityPattern                   sparsity;
       SparseMatrix<double>              tangent;
