@@ -41,7 +41,8 @@ namespace softface
                         Patterns::Selection("direct|cg amg|gmres amg"),
                         "Linear solver of each Newton iteration: 'direct' "
                         "(CHOLMOD, ordering reused), 'cg amg' or 'gmres amg' "
-                        "(Trilinos ML on the linear stiffness, built once).");
+                        "(Trilinos ML on the linear stiffness; rebuilt on the "
+                        "tangent when a solve gets slow).");
       prm.declare_entry("Initial load increment",
                         "1",
                         Patterns::Double(0., 1.),
@@ -70,6 +71,12 @@ namespace softface
                         Patterns::Double(0., 1.),
                         "Relative residual of the iterative linear solves "
                         "inside Newton.");
+      prm.declare_entry("AMG rebuild iterations",
+                        "100",
+                        Patterns::Integer(1),
+                        "With 'cg amg' or 'gmres amg': when a linear solve "
+                        "takes more iterations than this, ML is rebuilt on "
+                        "the current tangent for the following solves.");
       prm.declare_entry("Polynomial degree",
                         "1",
                         Patterns::Integer(1, 2),
@@ -92,6 +99,7 @@ namespace softface
       residual_tolerance    = prm.get_double("Residual tolerance");
       linear_tolerance      = prm.get_double("Linear tolerance");
       degree                = prm.get_integer("Polynomial degree");
+      amg_rebuild_iterations = prm.get_integer("AMG rebuild iterations");
       if (!(initial_increment > 0.))
         throw Error(
           "nonlinear fem: 'Initial load increment' must be positive.");
@@ -190,7 +198,7 @@ namespace softface
           LinearElasticity::assemble_stiffness(*scene, tangent);
           LinearElasticity::eliminate_join_dofs(scene->join_dofs(), tangent);
           amg_matrix.reinit(tangent);
-          initialize_elasticity_amg(*scene, amg_matrix, 0.02, 2, amg);
+          build_amg();
         }
       stats.setup_time = timer.wall_time();
       stats.phases.emplace_back("setup", stats.setup_time);
@@ -215,8 +223,8 @@ namespace softface
       from_vertex_dofs.resize(n);
       at_vertex_dof.assign(scene->dof_handler.n_dofs(),
                            numbers::invalid_dof_index);
-      std::vector<Point<3>>                dof_points(n);
-      std::vector<unsigned int>            dof_component(n);
+      dof_points.resize(n);
+      dof_component.resize(n);
       std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
       for (const auto &cell : quadratic_dofs->active_cell_iterators())
         {
@@ -273,14 +281,23 @@ namespace softface
           evaluate(zero, forces, &tangent);
           LinearElasticity::eliminate_join_dofs(is_join, tangent);
           amg_matrix.reinit(tangent);
-          initialize_elasticity_amg(
-            dof_points, dof_component, amg_matrix, 0.02, 2, amg);
+          build_amg();
         }
       stats.setup_time = timer.wall_time();
       stats.phases.emplace_back("setup", stats.setup_time);
       stats.details.clear();
       stats.details.emplace_back("degree", "2");
       stats.details.emplace_back("DoFs", std::to_string(n));
+    }
+
+    void
+    NonlinearFEM::build_amg()
+    {
+      if (degree == 1)
+        initialize_elasticity_amg(*scene, amg_matrix, 0.02, 2, amg);
+      else
+        initialize_elasticity_amg(
+          dof_points, dof_component, amg_matrix, 0.02, 2, amg);
     }
 
     std::pair<const DoFHandler<3> *, const Vector<double> *>
@@ -416,6 +433,15 @@ namespace softface
                        std::to_string(control.last_step()) + " iterations)";
             }
           last_report.linear_iterations += control.last_step();
+          // ML was built on the tangent at rest; far from rest (large
+          // motions, compressed tissue) it loses its grip and CG needs
+          // hundreds of iterations. Rebuild it on the current tangent then.
+          if (control.last_step() > amg_rebuild_iterations)
+            {
+              amg_matrix.reinit(tangent);
+              build_amg();
+              ++last_report.amg_rebuilds;
+            }
         }
       time_linear += timer.wall_time();
       return ok;
@@ -637,6 +663,9 @@ namespace softface
       stats.details.emplace_back("Newton iterations per step", per_step);
       stats.details.emplace_back("linear iterations",
                                  std::to_string(last_report.linear_iterations));
+      if (solver_name != "direct")
+        stats.details.emplace_back("AMG rebuilds",
+                                   std::to_string(last_report.amg_rebuilds));
     }
 
     const SparsityPattern &

@@ -90,6 +90,7 @@ namespace softface
       unsigned int max_sweeps              = 100000;
       double       convergence_tolerance   = 1e-9;
       bool         report_precision        = false;
+      std::string  precision_history_file;
 
       const Scene *scene = nullptr;
 

@@ -98,6 +98,7 @@ namespace softface
         unsigned int              cutbacks          = 0;
         unsigned int              newton_iterations = 0;
         unsigned int              linear_iterations = 0;
+        unsigned int              amg_rebuilds      = 0;
         double                    final_residual    = 0.; ///< relative
         std::vector<unsigned int> iterations_per_step;
       };
@@ -123,6 +124,9 @@ namespace softface
       free_norm(const Vector<double> &v) const;
       void
       setup_quadratic(Timer &timer);
+      /// ML on amg_matrix, with the rigid-body modes of the layout.
+      void
+      build_amg();
 
       Hyperelasticity::Law law               = Hyperelasticity::Law::neo_hooke;
       std::string          solver_name       = "cg amg";
@@ -132,6 +136,7 @@ namespace softface
       double               residual_tolerance    = 1e-10;
       double               linear_tolerance      = 1e-6;
       unsigned int         degree                = 1;
+      unsigned int         amg_rebuild_iterations = 100;
 
       const Scene                                         *scene = nullptr;
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
@@ -149,6 +154,8 @@ namespace softface
       std::vector<std::array<std::pair<types::global_dof_index, double>, 4>>
                                            from_vertex_dofs;
       std::vector<types::global_dof_index> at_vertex_dof;
+      std::vector<Point<3>>                dof_points;
+      std::vector<unsigned int>            dof_component;
       Vector<double>                       quadratic_solution;
 
       SparsityPattern                   sparsity;

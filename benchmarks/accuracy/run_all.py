@@ -1,0 +1,311 @@
+#!/usr/bin/python3
+"""What accuracy costs in time: every model's error against a converged
+reference and its time, side by side (issue 5). Called by
+benchmarks/run_all.sh, which builds softface first.
+
+For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
+30 degree rotation of the inner cube):
+  1. evaluation points: the free vertices of the coarsest mesh;
+  2. the reference: nonlinear FEM (Neo-Hooke) with quadratic tetrahedra on
+     the finest meshes, evaluated at those points by its shape functions;
+     its convergence is the change between the two finest levels;
+  3. the sweep: every model at every mesh level and accuracy setting, one
+     softface process per case, timed by softface (setup and solve) and
+     evaluated at the same points;
+  4. error statistics (median, 90%, 95%, max of |u - u_ref| in mm), Pareto
+     tables and a plot.
+Then the MTM precision study (seed 2.3.5) on the same three scenes.
+
+Writes accuracy_vs_time.{md,csv,png} and mtm_precision.{md,csv,png} to
+doc/results/ (the quick mode to build/benchmarks/accuracy/quick/results/).
+"""
+
+import argparse
+import csv
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import report  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+HERE = os.path.join(ROOT, "benchmarks", "accuracy")
+SOFTFACE = os.environ.get("SOFTFACE", os.path.join(ROOT, "build", "softface"))
+
+# The seed's cube: outer faces held, the inner cube [35, 45]^3 is the bone.
+EDGE, INNER_LOW, INNER_HIGH = 80.0, 35.0, 45.0
+
+SCENES = [
+    dict(key="cube_6mm", title="cube, 6 mm lift", translation="0, 0, 6",
+         axis="0, 0, 1", angle=0),
+    dict(key="cube_16.7mm", title="cube, 16.7 mm lift", translation="0, 0, 16.7",
+         axis="0, 0, 1", angle=0),
+    dict(key="rotation_30deg", title="inner cube rotated 30 deg about x",
+         translation="0, 0, 0", axis="1, 0, 0", angle=30),
+]
+
+MODELS = ["linear fem", "nonlinear fem", "mass tensor", "mass spring"]
+THRESHOLDS = [1.0, 0.5, 0.3, 0.1]  # mm, at the 90th percentile
+
+FULL = dict(
+    meshes=[10000, 30000, 100000, 300000],
+    reference_meshes=[10000, 30000, 100000],
+    settings={
+        "linear fem": [("Relative tolerance", v) for v in ("1e-2", "1e-4", "1e-8")],
+        "nonlinear fem": [("Residual tolerance", v) for v in ("1e-2", "1e-4", "1e-8")],
+        "mass tensor": [(("Stop gradient threshold", t), ("Gradient window", w))
+                        for t in ("1e-2", "1e-3", "1e-4") for w in ("3", "10")],
+        "mass spring": [("Stop threshold", v) for v in ("1e-2", "1e-3", "1e-4")],
+    },
+    precision_mesh=100000,
+)
+QUICK = dict(
+    meshes=[3000, 10000],
+    reference_meshes=[3000, 10000],
+    settings={
+        "linear fem": [("Relative tolerance", v) for v in ("1e-2", "1e-8")],
+        "nonlinear fem": [("Residual tolerance", v) for v in ("1e-2", "1e-8")],
+        "mass tensor": [(("Stop gradient threshold", t), ("Gradient window", "10"))
+                        for t in ("1e-2", "1e-3", "1e-4")],
+        "mass spring": [("Stop threshold", v) for v in ("1e-2", "1e-3")],
+    },
+    precision_mesh=10000,
+)
+
+# Fixed settings of each model (the swept knob is added to them).
+BASE_SETTINGS = {
+    "linear fem": [("Solver", "cg amg")],
+    "nonlinear fem": [("Material law", "neo-hooke"), ("Solver", "cg amg")],
+    "mass tensor": [],
+    "mass spring": [],
+}
+REFERENCE_SETTINGS = [("Material law", "neo-hooke"), ("Solver", "cg amg"),
+                      ("Polynomial degree", "2"), ("Residual tolerance", "1e-9")]
+
+# Rough relative cost per tetrahedron, only for the progress estimate.
+COST = {"linear fem": 1, "nonlinear fem": 4, "mass tensor": 1,
+        "mass spring": 3, "reference": 40, "points": 1, "precision": 2}
+
+
+def knob_pairs(setting):
+    """A setting is one (name, value) pair or a tuple of them."""
+    return list(setting) if isinstance(setting[0], tuple) else [setting]
+
+
+def knob_text(setting):
+    return ", ".join(f"{n.lower()} {v}" for n, v in knob_pairs(setting))
+
+
+def file_name_of(model):
+    return model.replace(" ", "_")
+
+
+def write_prm(path, scene, model, tets, settings, output, points="", nodal=False):
+    text = open(os.path.join(HERE, "scene.prm.in")).read()
+    lines = "\n".join(f"    set {n} = {v}" for n, v in settings)
+    for key, value in {"@TETS@": str(tets), "@TRANSLATION@": scene["translation"],
+                       "@AXIS@": scene["axis"], "@ANGLE@": str(scene["angle"]),
+                       "@MODEL@": model, "@SETTINGS@": lines, "@OUTPUT@": output,
+                       "@POINTS@": points, "@NODAL@": "true" if nodal else "false"}.items():
+        text = text.replace(key, value)
+    with open(path, "w") as f:
+        f.write(text)
+
+
+def read_values(path):
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return data[:, :3], data[:, 3:6]
+
+
+def error_statistics(values, reference):
+    d = np.linalg.norm(values - reference, axis=1)
+    return dict(err_median=float(np.median(d)), err_p90=float(np.percentile(d, 90)),
+                err_p95=float(np.percentile(d, 95)), err_max=float(d.max()))
+
+
+class Progress:
+    def __init__(self, total_cost):
+        self.total, self.done, self.start, self.i, self.n = total_cost, 0., time.time(), 0, 0
+
+    def step(self, label, cost):
+        self.i += 1
+        elapsed = time.time() - self.start
+        estimate = ""
+        if self.done > 0:
+            remaining = elapsed / self.done * (self.total - self.done)
+            estimate = f", about {remaining / 60:.1f} min left"
+        print(f"[{self.i}/{self.n}] {label} (elapsed {elapsed / 60:.1f} min{estimate})",
+              flush=True)
+        self.done += cost
+
+
+def run_softface(prm, log):
+    """Run one case; returns (ok, first error line)."""
+    with open(log, "w") as out:
+        result = subprocess.run([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
+    message = ""
+    for line in open(log):
+        if line.startswith("softface: error:"):
+            message = line[len("softface: error:"):].strip()
+            break
+    return result.returncode == 0, message
+
+
+def summary_row(output, model):
+    path = os.path.join(output, "summary.csv")
+    if not os.path.exists(path):
+        return None
+    for row in csv.DictReader(open(path)):
+        if row["model"] == model:
+            return row
+    return None
+
+
+def free_points(points):
+    """Vertices that are no join point: not on the outer faces and not in
+    the closed inner (bone) cube."""
+    tol = 1e-9 * EDGE
+    on_outer = np.any((points < tol) | (points > EDGE - tol), axis=1)
+    in_bone = np.all((points > INNER_LOW - tol) & (points < INNER_HIGH + tol), axis=1)
+    return points[~on_outer & ~in_bone]
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true",
+                        help="coarser meshes and fewer settings (under 5 minutes)")
+    parser.add_argument("--scenes", default="",
+                        help="comma-separated scene keys to run (default: all)")
+    args = parser.parse_args()
+    config = QUICK if args.quick else FULL
+    work = os.path.join(ROOT, "build", "benchmarks", "accuracy",
+                        "quick" if args.quick else "full")
+    results = (os.path.join(work, "results") if args.quick
+               else os.path.join(ROOT, "doc", "results"))
+    os.makedirs(results, exist_ok=True)
+    scenes = [s for s in SCENES if not args.scenes or s["key"] in args.scenes.split(",")]
+    command = "benchmarks/run_all.sh" + (" --quick" if args.quick else "")
+
+    # Every case, in order: points, references (finest last), sweep, precision.
+    cases = []
+    for scene in scenes:
+        cases.append(dict(scene=scene, kind="points", model="linear fem",
+                          tets=config["meshes"][0], settings=BASE_SETTINGS["linear fem"]))
+        for tets in config["reference_meshes"]:
+            cases.append(dict(scene=scene, kind="reference", model="nonlinear fem",
+                              tets=tets, settings=REFERENCE_SETTINGS))
+        for model in MODELS:
+            for tets in config["meshes"]:
+                for setting in config["settings"][model]:
+                    cases.append(dict(scene=scene, kind="sweep", model=model, tets=tets,
+                                      setting=setting,
+                                      settings=BASE_SETTINGS[model] + knob_pairs(setting)))
+        cases.append(dict(scene=scene, kind="precision", model="mass tensor",
+                          tets=config["precision_mesh"]))
+    progress = Progress(sum(c["tets"] * COST[c["model"] if c["kind"] == "sweep" else c["kind"]]
+                            for c in cases))
+    progress.n = len(cases)
+
+    rows, reference_rows, precision = [], [], {}
+    points_file, reference_values = {}, {}
+    for case in cases:
+        scene, key = case["scene"], case["scene"]["key"]
+        kind, model, tets = case["kind"], case["model"], case["tets"]
+        folder = os.path.join(work, key)
+        os.makedirs(folder, exist_ok=True)
+        name = f"{kind}_{file_name_of(model)}_{tets}"
+        if kind == "sweep":
+            name += "_" + "_".join(v for _, v in knob_pairs(case["setting"]))
+        output = os.path.join(folder, name)
+        prm = output + ".prm"
+        label = f"{key}: {kind} {model}, {tets} tets"
+        if kind == "sweep":
+            label += ", " + knob_text(case["setting"])
+        progress.step(label, tets * COST[model if kind == "sweep" else kind])
+
+        if kind == "points":
+            write_prm(prm, scene, model, tets, case["settings"], output, nodal=True)
+            ok, message = run_softface(prm, output + ".log")
+            if not ok:
+                sys.exit(f"the evaluation-point run failed: {message} (log {output}.log)")
+            points, _ = read_values(os.path.join(output, "displacements_linear_fem.csv"))
+            points = free_points(points)
+            points_file[key] = os.path.join(folder, "evaluation_points.csv")
+            np.savetxt(points_file[key], points, delimiter=",", header="x,y,z",
+                       comments="", fmt="%.12g")
+            print(f"    {len(points)} evaluation points (free vertices of the "
+                  f"{tets}-tetrahedron mesh)", flush=True)
+            continue
+
+        if kind == "precision":
+            history = output + "_history.csv"
+            settings = [("Stop gradient threshold", "1e-5"), ("Active set", "false"),
+                        ("Maximum sweeps", "100000"), ("Precision history file", history)]
+            write_prm(prm, scene, model, tets, settings, output)
+            ok, message = run_softface(prm, output + ".log")
+            row = summary_row(output, model)
+            precision[key] = dict(scene=scene, tets=tets, ok=ok, message=message,
+                                  vertices=row["n_vertices"] if row else "",
+                                  history=np.loadtxt(history, delimiter=",", skiprows=1,
+                                                     ndmin=2) if ok else None)
+            # A scene is complete: write what is done so far.
+            finished = [sc for sc in scenes if sc["key"] in precision]
+            report.write_accuracy(results, command, finished, rows, reference_rows,
+                                  THRESHOLDS, MODELS, time.time() - progress.start)
+            report.write_precision(results, command, precision)
+            continue
+
+        write_prm(prm, scene, model, tets, case["settings"], output,
+                  points=points_file[key])
+        ok, message = run_softface(prm, output + ".log")
+        row = summary_row(output, model)
+        values_path = os.path.join(output, f"evaluation_{file_name_of(model)}.csv")
+        entry = dict(scene=key, model=model if kind == "sweep" else "reference (P2 neo-hooke)",
+                     setting=knob_text(case["setting"]) if kind == "sweep" else "degree 2",
+                     n_tets=row["n_tets"] if row else "", n_vertices=row["n_vertices"] if row else "",
+                     setup_s=float(row["setup_s"]) if row else float("nan"),
+                     solve_s=float(row["solve_s"]) if row else float("nan"),
+                     iterations=row["iterations"] if row else "",
+                     status="ok" if ok and row else "failed", message=message)
+        entry["total_s"] = entry["setup_s"] + entry["solve_s"]
+        if kind == "reference":
+            entry["details"] = row["details"] if row else ""
+            entry["values"] = read_values(values_path)[1] if ok and row else None
+            reference_rows.append(entry)
+            if entry["values"] is None:
+                print(f"    reference failed: {message}", flush=True)
+            if tets == config["reference_meshes"][-1]:
+                # The finest reference that converged scores the sweep.
+                done = [r for r in reference_rows if r["scene"] == key and r["values"] is not None]
+                if done:
+                    reference_values[key] = done[-1]["values"]
+                    for r in done:
+                        r["used"] = r is done[-1]
+            continue
+        if ok and row and key in reference_values:
+            entry.update(error_statistics(read_values(values_path)[1], reference_values[key]))
+        elif ok and row:
+            entry["message"] = "no converged reference"
+        rows.append(entry)
+        if "err_p90" in entry:
+            print(f"    {entry['total_s']:.3f} s, error p90 {entry['err_p90']:.3f} mm, "
+                  f"max {entry['err_max']:.3f} mm", flush=True)
+        elif not ok:
+            print(f"    failed: {message}", flush=True)
+
+    elapsed = time.time() - progress.start
+    report.write_accuracy(results, command, scenes, rows, reference_rows, THRESHOLDS,
+                          MODELS, elapsed)
+    report.write_precision(results, command, precision)
+    print(f"done in {elapsed / 60:.1f} min; results in {results}/ "
+          "(accuracy_vs_time.md/.csv/.png, mtm_precision.md/.csv/.png)", flush=True)
+
+
+if __name__ == "__main__":
+    main()
