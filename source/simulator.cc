@@ -149,6 +149,28 @@ namespace softface
                 << "': " << scene.n_join_vertices(s) << " join points"
                 << std::endl;
 
+    std::unique_ptr<PointEvaluation> evaluation;
+    if (!output.evaluation_points.empty())
+      {
+        std::filesystem::path points_file(output.evaluation_points);
+        if (points_file.is_relative() && !input_directory.empty())
+          points_file = std::filesystem::path(input_directory) / points_file;
+        const auto points = read_points_csv(points_file.string());
+        try
+          {
+            evaluation =
+              std::make_unique<PointEvaluation>(scene.triangulation, points);
+          }
+        catch (const Error &e)
+          {
+            throw Error("Output/Evaluation points '" + points_file.string() +
+                        "': " + e.what());
+          }
+        std::cout << "  " << evaluation->points().size()
+                  << " evaluation points from " << points_file.string()
+                  << std::endl;
+      }
+
     std::filesystem::create_directories(output.directory);
     std::filesystem::copy_file(
       filename,
@@ -161,18 +183,6 @@ namespace softface
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
-    std::unique_ptr<PointEvaluation> evaluation;
-    if (!output.evaluation_points.empty())
-      {
-        std::filesystem::path points_file(output.evaluation_points);
-        if (points_file.is_relative() && !input_directory.empty())
-          points_file = std::filesystem::path(input_directory) / points_file;
-        evaluation = std::make_unique<PointEvaluation>(
-          scene.triangulation, read_points_csv(points_file.string()));
-        std::cout << "  " << evaluation->points().size()
-                  << " evaluation points from " << points_file.string()
-                  << std::endl;
-      }
 
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says

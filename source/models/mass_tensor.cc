@@ -132,6 +132,12 @@ namespace softface
     }
 
     void
+    MassTensor::set_precision_history_file(const std::string &filename)
+    {
+      precision_history_file = filename;
+    }
+
+    void
     MassTensor::setup(const Scene &scene_in)
     {
       scene = &scene_in;

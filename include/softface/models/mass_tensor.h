@@ -6,6 +6,7 @@
 #include <softface/models/interface.h>
 
 #include <array>
+#include <string>
 #include <vector>
 
 namespace softface
@@ -57,6 +58,9 @@ namespace softface
       /// Also compute the converged answer and report the precision.
       void
       set_report_precision(const bool report);
+      /// Write the per-sweep precision history there (empty: off).
+      void
+      set_precision_history_file(const std::string &filename);
 
       unsigned int
       n_points() const;
