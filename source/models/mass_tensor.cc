@@ -131,6 +131,26 @@ namespace softface
       report_precision = report;
     }
 
+    std::pair<double, double>
+    MassTensor::distance_to(const Vector<double> &reference,
+                            const double         *u) const
+    {
+      double       max = 0., sum = 0.;
+      unsigned int n_free = 0;
+      for (unsigned int j = 0; j < is_free.size(); ++j)
+        if (is_free[j])
+          {
+            double d = 0.;
+            for (unsigned int c = 0; c < 3; ++c)
+              d += std::pow(u[3 * j + c] - reference[3 * j + c], 2);
+            d   = std::sqrt(d);
+            max = std::max(max, d);
+            sum += d;
+            ++n_free;
+          }
+      return {max, n_free ? sum / n_free : 0.};
+    }
+
     void
     MassTensor::set_precision_history_file(const std::string &filename)
     {
@@ -300,24 +320,14 @@ namespace softface
         }
       const auto record_history = [&](const unsigned int sweep_number,
                                       const std::size_t  n_active) {
-        double       max = 0., sum = 0., gradient = 0.;
-        unsigned int n_free = 0;
+        double gradient = 0.;
         for (unsigned int j = 0; j < n; ++j)
-          if (is_free[j])
-            {
-              double d = 0.;
-              for (unsigned int c = 0; c < 3; ++c)
-                d += std::pow(u[3 * j + c] - converged[3 * j + c], 2);
-              d   = std::sqrt(d);
-              max = std::max(max, d);
-              sum += d;
-              ++n_free;
-              if (n_updates[j] > 0)
-                gradient =
-                  std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
-            }
-        history << sweep_number << ',' << max << ','
-                << (n_free ? sum / n_free : 0.) << ',' << gradient << ','
+          if (is_free[j] && n_updates[j] > 0)
+            gradient =
+              std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
+        const auto [max, mean] = distance_to(converged, u);
+        history << sweep_number << ',' << max << ',' << mean << ','
+                << gradient << ','
                 << n_active << '\n';
       };
 
@@ -478,21 +488,9 @@ namespace softface
           reference_model.setup(*scene);
           Vector<double> reference;
           reference_model.solve(prescribed, reference);
-          double       max = 0., sum = 0.;
-          unsigned int n_free = 0;
-          for (unsigned int j = 0; j < n; ++j)
-            if (is_free[j])
-              {
-                double d = 0.;
-                for (unsigned int c = 0; c < 3; ++c)
-                  d += std::pow(u[3 * j + c] - reference[3 * j + c], 2);
-                d   = std::sqrt(d);
-                max = std::max(max, d);
-                sum += d;
-                ++n_free;
-              }
+          const auto [max, mean]     = distance_to(reference, u);
           last_report.precision_max  = max;
-          last_report.precision_mean = n_free ? sum / n_free : 0.;
+          last_report.precision_mean = mean;
           stats.details.emplace_back("precision max", format(max, 3) + " mm");
           stats.details.emplace_back("precision mean",
                                      format(last_report.precision_mean, 3) +

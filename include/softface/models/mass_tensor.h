@@ -7,6 +7,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softface
@@ -85,6 +86,10 @@ namespace softface
 
     private:
       using Block = std::array<double, 9>;
+
+      /// Largest and mean distance of a free point of @p u to @p reference.
+      std::pair<double, double>
+      distance_to(const Vector<double> &reference, const double *u) const;
 
       bool         gauss_seidel            = true;
       double       relaxation              = 1.;
