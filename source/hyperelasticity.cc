@@ -5,6 +5,9 @@
 #include <softface/error.h>
 #include <softface/hyperelasticity.h>
 
+#include <algorithm>
+#include <numeric>
+
 #include <cmath>
 
 namespace softface
@@ -191,6 +194,11 @@ namespace softface
       FullMatrix<double>        K_cell(n, n);
       Tensor<2, 3>              P;
       Tensor<4, 3>              A;
+      // Rows go into the matrix with sorted columns: SparseMatrix::add then
+      // merges along the row instead of searching it for every entry.
+      std::vector<unsigned int>            order(n);
+      std::vector<types::global_dof_index> sorted_dofs(n);
+      std::vector<double>                  row(n);
 
       forces.reinit(u.size());
       if (tangent != nullptr)
@@ -233,8 +241,20 @@ namespace softface
             }
           for (unsigned int i = 0; i < n; ++i)
             forces[dofs[i]] += f_cell[i];
-          if (tangent != nullptr)
-            tangent->add(dofs, K_cell);
+          if (tangent == nullptr)
+            continue;
+          std::iota(order.begin(), order.end(), 0u);
+          std::sort(order.begin(), order.end(), [&](unsigned int i, unsigned int j) {
+            return dofs[i] < dofs[j];
+          });
+          for (unsigned int k = 0; k < n; ++k)
+            sorted_dofs[k] = dofs[order[k]];
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              for (unsigned int k = 0; k < n; ++k)
+                row[k] = K_cell(i, order[k]);
+              tangent->add(dofs[i], n, sorted_dofs.data(), row.data(), false, true);
+            }
         }
       return true;
     }

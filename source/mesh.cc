@@ -37,6 +37,17 @@ namespace softface
                         "About how many tetrahedra to generate (the grid "
                         "spacing is chosen so that 6 tetrahedra per grid "
                         "box come close; typical range 10k to 2M).");
+      prm.declare_entry("Grading",
+                        "1",
+                        Patterns::Double(1., 1000.),
+                        "Ratio of the grid spacing at the outer faces to the "
+                        "spacing at the planes of the inner cube's faces. 1 "
+                        "gives the seed's uniform grid; larger values grow the "
+                        "spacing linearly with the distance from those planes "
+                        "(1 + (Grading - 1) d / ((L - s) / 2)), which puts "
+                        "the tetrahedra where the inner cube's edges and "
+                        "corners make the displacement singular. Used for "
+                        "converged references (benchmarks/accuracy).");
       prm.leave_subsection();
     }
 
@@ -47,6 +58,7 @@ namespace softface
       edge_length         = prm.get_double("Edge length");
       inner_size          = prm.get_double("Inner region size");
       target_n_tetrahedra = prm.get_integer("Target number of tetrahedra");
+      grading             = prm.get_double("Grading");
       prm.leave_subsection();
       if (!(edge_length > 0.) || !(inner_size > 0.) ||
           !(inner_size < edge_length))
@@ -69,24 +81,71 @@ namespace softface
       const double L = parameters.edge_length, s = parameters.inner_size;
       const double a = (L - s) / 2., b = a + s;
 
-      // Grid lines that include the inner cube's faces, spaced about h in
-      // each of the three intervals. The spacing is chosen so that the six
-      // tetrahedra per grid box come closest to the target count.
+      // Grid lines that include the inner cube's faces. Uniform grids space
+      // them about h in each of the three intervals. Graded grids (spacing
+      // h (1 + c d) at distance d from the nearest inner-face plane) place
+      // the lines of a stretch of length D leaving such a plane where the
+      // integral of 1 / spacing is a multiple of its total: geometric-like
+      // steps d_i = ((1 + c D)^(i/n) - 1) / c. Inside the inner cube the two
+      // halves grade towards its two faces.
+      const double c = (parameters.grading - 1.) / a;
+      const auto   graded_steps =
+        [c](const double D, const double h) -> std::vector<double> {
+        std::vector<double> steps;
+        if (c == 0.)
+          {
+            const unsigned int n = std::max<long>(1, std::lround(D / h));
+            for (unsigned int i = 1; i <= n; ++i)
+              steps.push_back(D * i / n);
+          }
+        else
+          {
+            const double       total = std::log1p(c * D);
+            const unsigned int n = std::max<long>(1, std::lround(total / (c * h)));
+            for (unsigned int i = 1; i <= n; ++i)
+              steps.push_back(i == n ? D : std::expm1(total * i / n) / c);
+          }
+        return steps;
+      };
       const auto grid_lines = [&](const double h) {
         std::vector<double> lines{0.};
-        for (const auto &[from, to] : {std::make_pair(0., a),
-                                       std::make_pair(a, b),
-                                       std::make_pair(b, L)})
+        if (c == 0.)
           {
-            const unsigned int n =
-              std::max<long>(1, std::lround((to - from) / h));
-            for (unsigned int i = 1; i <= n; ++i)
-              lines.push_back(i == n ? to : from + (to - from) * i / n);
+            for (const auto &[from, to] : {std::make_pair(0., a),
+                                           std::make_pair(a, b),
+                                           std::make_pair(b, L)})
+              {
+                const unsigned int n =
+                  std::max<long>(1, std::lround((to - from) / h));
+                for (unsigned int i = 1; i <= n; ++i)
+                  lines.push_back(i == n ? to : from + (to - from) * i / n);
+              }
+            return lines;
           }
+        // From the outer face in to a: the steps leave a, so reverse them.
+        const auto outer = graded_steps(a, h);
+        for (auto d = outer.rbegin() + 1; d != outer.rend(); ++d)
+          lines.push_back(a - *d);
+        lines.push_back(a);
+        const auto half = graded_steps(s / 2., h);
+        for (unsigned int i = 0; i + 1 < half.size(); ++i)
+          lines.push_back(a + half[i]);
+        lines.push_back(a + s / 2.);
+        for (auto d = half.rbegin() + 1; d != half.rend(); ++d)
+          lines.push_back(b - *d);
+        lines.push_back(b);
+        for (unsigned int i = 0; i < outer.size(); ++i)
+          lines.push_back(i + 1 == outer.size() ? L : b + outer[i]);
         return lines;
       };
-      const double h0 =
+      // Start from the uniform spacing, scaled for the graded grid by the
+      // ratio of line counts at that spacing; then search the spacing that
+      // brings six tetrahedra per box closest to the target count.
+      const double h_uniform =
         std::cbrt(6. * L * L * L / parameters.target_n_tetrahedra);
+      const double h0 =
+        (c == 0.) ? h_uniform :
+                    h_uniform * (grid_lines(h_uniform).size() - 1.) * h_uniform / L;
       std::vector<double> lines = grid_lines(h0);
       for (double f = 0.8; f < 1.25; f += 0.005)
         {

@@ -3,6 +3,9 @@
 // non-conforming split would exceed), conform to the inner cube (material 2
 // fills exactly s^3 and its vertices lie in the closed inner box), carry
 // boundary id 1 on every outer face, and come near the requested count.
+// Graded grids keep all of that and crowd their lines towards the inner
+// cube's face planes: the spacing at those planes is about 1/Grading of the
+// spacing at the outer faces.
 
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
@@ -11,14 +14,21 @@
 
 #include "tests.h"
 
+#include <set>
+
 using namespace softface;
 
 SOFTFACE_TEST(cube_mesh)
 {
-  for (const unsigned int target : {10000u, 30000u, 100000u})
+  for (const auto &[target, grading] : {std::make_pair(10000u, 1.),
+                                        std::make_pair(30000u, 1.),
+                                        std::make_pair(100000u, 1.),
+                                        std::make_pair(30000u, 6.),
+                                        std::make_pair(100000u, 6.)})
     {
       Mesh::CubeParameters parameters;
       parameters.target_n_tetrahedra = target;
+      parameters.grading             = grading;
       Triangulation<3> tria;
       Mesh::generate_cube(parameters, tria);
       Mesh::check_cells(tria, "generated cube");
@@ -52,7 +62,7 @@ SOFTFACE_TEST(cube_mesh)
                   (face->boundary_id() == Mesh::cube_outer_face);
               }
         }
-      deallog << "target " << target << std::endl;
+      deallog << "target " << target << ", grading " << grading << std::endl;
       softface_tests::check(std::abs(double(tria.n_active_cells()) - target) <
                               0.25 * target,
                             "tetrahedron count within 25% of target");
@@ -65,5 +75,17 @@ SOFTFACE_TEST(cube_mesh)
       softface_tests::check(inner_vertices_in_box,
                             "inner cells lie in the inner box");
       softface_tests::check(boundary_ids_ok, "outer faces carry id 1");
+
+      // Grid lines along x: the spacing next to the inner face x = a against
+      // the spacing next to the outer face x = 0.
+      std::set<double> lines;
+      for (const auto &vertex : tria.get_vertices())
+        lines.insert(vertex[0]);
+      const std::vector<double> x(lines.begin(), lines.end());
+      const auto   at_a = std::lower_bound(x.begin(), x.end(), a - 1e-9);
+      const double ratio = (x[1] - x[0]) / (*at_a - *(at_a - 1));
+      softface_tests::check(*at_a == a && std::abs(ratio / grading - 1.) < 0.3,
+                            "spacing at the outer face / at the inner face "
+                            "is the grading within 30%");
     }
 }

@@ -31,6 +31,8 @@ namespace softface
      * tetrahedra along its main diagonal (Kuhn), so the tetrahedra conform to
      * the inner region and to each other. Cells inside the inner cube get
      * material id 2, the others 1; all outer faces get boundary id 1.
+     * With grading > 1 the grid lines crowd towards the planes of the inner
+     * cube's faces (see the parameter "Grading").
      */
     struct CubeParameters
     {
@@ -42,6 +44,7 @@ namespace softface
       double       edge_length         = 80.;
       double       inner_size          = 10.;
       unsigned int target_n_tetrahedra = 30000;
+      double       grading             = 1.;
     };
 
     void

@@ -465,7 +465,9 @@ namespace softface
       bool evaluated = false;
       for (unsigned int it = 0; it <= max_newton_iterations; ++it)
         {
-          Timer      assembly;
+          Timer              iteration_timer;
+          const unsigned int linear_before = last_report.linear_iterations;
+          Timer              assembly;
           const bool first = (it == 0);
           if (!evaluated && !evaluate(u, forces, &tangent))
             {
@@ -534,6 +536,21 @@ namespace softface
           forces.swap(trial_forces);
           evaluated      = true;
           join_increment = 0.;
+
+          // Large (quadratic reference) solves take minutes: say where they
+          // are once an iteration is slow enough for anyone to wonder.
+          if (progress != nullptr && iteration_timer.wall_time() > 5.)
+            {
+              std::ostringstream line;
+              line << "        Newton iteration " << result.iterations
+                   << ": relative residual before " << std::setprecision(2)
+                   << result.residual << ", "
+                   << last_report.linear_iterations - linear_before
+                   << " linear iterations, " << std::fixed
+                   << std::setprecision(1) << iteration_timer.wall_time()
+                   << " s\n";
+              *progress << line.str() << std::flush;
+            }
         }
       result.reason = "no convergence in " +
                       std::to_string(max_newton_iterations) + " iterations";
