@@ -10,6 +10,8 @@
 #   benchmarks/run_all.sh --quick   coarser meshes, fewer settings (under 5
 #                                   minutes), writes build/benchmarks/accuracy/quick/results/
 #   benchmarks/run_all.sh --scenes cube_6mm,rotation_30deg   only these scenes
+#   benchmarks/run_all.sh --report-only   rewrite the reports from an earlier
+#                                   run's outputs in build/benchmarks/accuracy/
 #
 # Builds softface first if needed (like ./run.sh). Needs /usr/bin/python3 with
 # python3-numpy and python3-matplotlib (installed here if missing).

@@ -48,6 +48,17 @@ namespace softface
                         "the tetrahedra where the inner cube's edges and "
                         "corners make the displacement singular. Used for "
                         "converged references (benchmarks/accuracy).");
+      prm.declare_entry("Mirror-symmetric split",
+                        "false",
+                        Patterns::Bool(),
+                        "Split the grid boxes into tetrahedra so that the mesh "
+                        "is symmetric under the reflections x -> L - x, y -> "
+                        "L - y and z -> L - z (each octant a mirror image of "
+                        "the others; the inner cube then has an even number "
+                        "of grid boxes across). With false every box is split "
+                        "along the same diagonal direction (1, 1, 1), and a "
+                        "symmetric planning gets a slightly asymmetric "
+                        "answer.");
       prm.leave_subsection();
     }
 
@@ -59,6 +70,7 @@ namespace softface
       inner_size          = prm.get_double("Inner region size");
       target_n_tetrahedra = prm.get_integer("Target number of tetrahedra");
       grading             = prm.get_double("Grading");
+      mirror_symmetric    = prm.get_bool("Mirror-symmetric split");
       prm.leave_subsection();
       if (!(edge_length > 0.) || !(inner_size > 0.) ||
           !(inner_size < edge_length))
@@ -115,8 +127,12 @@ namespace softface
                                            std::make_pair(a, b),
                                            std::make_pair(b, L)})
               {
+                // The mirror-symmetric split needs the mid planes as grid
+                // planes: an even count across the inner cube.
                 const unsigned int n =
-                  std::max<long>(1, std::lround((to - from) / h));
+                  (parameters.mirror_symmetric && from == a) ?
+                    2 * std::max<long>(1, std::lround((to - from) / (2. * h))) :
+                    std::max<long>(1, std::lround((to - from) / h));
                 for (unsigned int i = 1; i <= n; ++i)
                   lines.push_back(i == n ? to : from + (to - from) * i / n);
               }
@@ -173,7 +189,11 @@ namespace softface
       // Kuhn split: the six tetrahedra of a box share its main diagonal and
       // follow the six paths along the box edges from its lowest to its
       // highest corner. Every face diagonal then runs from the face's lowest
-      // to its highest corner in both neighbouring boxes: conforming.
+      // to its highest corner in both neighbouring boxes: conforming. The
+      // mirror-symmetric split reflects this in each octant (paths start at
+      // the box corner nearest the centre): boxes on either side of a mid
+      // plane share faces in that plane, whose diagonals depend only on the
+      // other two directions, so the mesh stays conforming.
       static const unsigned int paths[6][3] = {
         {0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
       std::vector<CellData<3>> cells;
@@ -188,14 +208,21 @@ namespace softface
               const bool     inner =
                 (centre[0] > a && centre[0] < b && centre[1] > a &&
                  centre[1] < b && centre[2] > a && centre[2] < b);
+              bool flip[3] = {false, false, false};
+              if (parameters.mirror_symmetric)
+                for (unsigned int d = 0; d < 3; ++d)
+                  flip[d] = centre[d] > L / 2.;
               for (const auto &path : paths)
                 {
-                  unsigned int corner[3] = {i, j, k};
+                  unsigned int corner[3] = {i + flip[0], j + flip[1], k + flip[2]};
                   CellData<3>  cell(4);
-                  cell.vertices[0] = index(i, j, k);
+                  cell.vertices[0] = index(corner[0], corner[1], corner[2]);
                   for (unsigned int step = 0; step < 3; ++step)
                     {
-                      ++corner[path[step]];
+                      if (flip[path[step]])
+                        --corner[path[step]];
+                      else
+                        ++corner[path[step]];
                       cell.vertices[step + 1] =
                         index(corner[0], corner[1], corner[2]);
                     }

@@ -5,7 +5,8 @@
 // boundary id 1 on every outer face, and come near the requested count.
 // Graded grids keep all of that and crowd their lines towards the inner
 // cube's face planes: the spacing at those planes is about 1/Grading of the
-// spacing at the outer faces.
+// spacing at the outer faces. The mirror-symmetric split gives a mesh that
+// each reflection x_d -> L - x_d maps onto itself (cell centroids compared).
 
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
@@ -14,21 +15,27 @@
 
 #include "tests.h"
 
+#include <array>
 #include <set>
+#include <tuple>
 
 using namespace softface;
 
 SOFTFACE_TEST(cube_mesh)
 {
-  for (const auto &[target, grading] : {std::make_pair(10000u, 1.),
-                                        std::make_pair(30000u, 1.),
-                                        std::make_pair(100000u, 1.),
-                                        std::make_pair(30000u, 6.),
-                                        std::make_pair(100000u, 6.)})
+  for (const auto &[target, grading, symmetric] :
+       {std::make_tuple(10000u, 1., false),
+        std::make_tuple(30000u, 1., false),
+        std::make_tuple(100000u, 1., false),
+        std::make_tuple(30000u, 6., false),
+        std::make_tuple(100000u, 6., false),
+        std::make_tuple(30000u, 1., true),
+        std::make_tuple(30000u, 6., true)})
     {
       Mesh::CubeParameters parameters;
       parameters.target_n_tetrahedra = target;
       parameters.grading             = grading;
+      parameters.mirror_symmetric    = symmetric;
       Triangulation<3> tria;
       Mesh::generate_cube(parameters, tria);
       Mesh::check_cells(tria, "generated cube");
@@ -62,7 +69,8 @@ SOFTFACE_TEST(cube_mesh)
                   (face->boundary_id() == Mesh::cube_outer_face);
               }
         }
-      deallog << "target " << target << ", grading " << grading << std::endl;
+      deallog << "target " << target << ", grading " << grading
+              << (symmetric ? ", mirror-symmetric" : "") << std::endl;
       softface_tests::check(std::abs(double(tria.n_active_cells()) - target) <
                               0.25 * target,
                             "tetrahedron count within 25% of target");
@@ -87,5 +95,29 @@ SOFTFACE_TEST(cube_mesh)
       softface_tests::check(*at_a == a && std::abs(ratio / grading - 1.) < 0.3,
                             "spacing at the outer face / at the inner face "
                             "is the grading within 30%");
+
+      if (symmetric)
+        {
+          // Centroids on a 1e-6 mm lattice; a reflection must map the set
+          // onto itself.
+          const auto key = [](const Point<3> &p) {
+            return std::array<long, 3>{{std::lround(p[0] * 1e6),
+                                        std::lround(p[1] * 1e6),
+                                        std::lround(p[2] * 1e6)}};
+          };
+          std::set<std::array<long, 3>> centroids;
+          for (const auto &cell : tria.active_cell_iterators())
+            centroids.insert(key(cell->center()));
+          bool mirrored = true;
+          for (unsigned int d = 0; d < 3; ++d)
+            for (const auto &cell : tria.active_cell_iterators())
+              {
+                Point<3> image = cell->center();
+                image[d]       = L - image[d];
+                mirrored &= (centroids.count(key(image)) == 1);
+              }
+          softface_tests::check(mirrored,
+                                "each reflection maps the mesh onto itself");
+        }
     }
 }

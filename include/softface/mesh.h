@@ -32,7 +32,8 @@ namespace softface
      * the inner region and to each other. Cells inside the inner cube get
      * material id 2, the others 1; all outer faces get boundary id 1.
      * With grading > 1 the grid lines crowd towards the planes of the inner
-     * cube's faces (see the parameter "Grading").
+     * cube's faces (see the parameter "Grading"); with mirror_symmetric
+     * the split of each octant mirrors the others.
      */
     struct CubeParameters
     {
@@ -45,6 +46,7 @@ namespace softface
       double       inner_size          = 10.;
       unsigned int target_n_tetrahedra = 30000;
       double       grading             = 1.;
+      bool         mirror_symmetric    = false;
     };
 
     void

@@ -542,9 +542,13 @@ namespace softface
           if (progress != nullptr && iteration_timer.wall_time() > 5.)
             {
               std::ostringstream line;
-              line << "        Newton iteration " << result.iterations
-                   << ": relative residual before " << std::setprecision(2)
-                   << result.residual << ", "
+              line << "        Newton iteration " << result.iterations << ": ";
+              if (first)
+                line << "predictor (join points moved), ";
+              else
+                line << "relative residual before " << std::setprecision(2)
+                     << result.residual << ", ";
+              line
                    << last_report.linear_iterations - linear_before
                    << " linear iterations, " << std::fixed
                    << std::setprecision(1) << iteration_timer.wall_time()
