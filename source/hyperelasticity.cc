@@ -244,16 +244,19 @@ namespace softface
           if (tangent == nullptr)
             continue;
           std::iota(order.begin(), order.end(), 0u);
-          std::sort(order.begin(), order.end(), [&](unsigned int i, unsigned int j) {
-            return dofs[i] < dofs[j];
-          });
+          std::sort(order.begin(),
+                    order.end(),
+                    [&](unsigned int i, unsigned int j) {
+                      return dofs[i] < dofs[j];
+                    });
           for (unsigned int k = 0; k < n; ++k)
             sorted_dofs[k] = dofs[order[k]];
           for (unsigned int i = 0; i < n; ++i)
             {
               for (unsigned int k = 0; k < n; ++k)
                 row[k] = K_cell(i, order[k]);
-              tangent->add(dofs[i], n, sorted_dofs.data(), row.data(), false, true);
+              tangent->add(
+                dofs[i], n, sorted_dofs.data(), row.data(), false, true);
             }
         }
       return true;

@@ -101,22 +101,13 @@ namespace softface
       // steps d_i = ((1 + c D)^(i/n) - 1) / c. Inside the inner cube the two
       // halves grade towards its two faces.
       const double c = (parameters.grading - 1.) / a;
-      const auto   graded_steps =
-        [c](const double D, const double h) -> std::vector<double> {
+      // (Only for c > 0; the uniform grid keeps the seed's spacing below.)
+      const auto graded_steps = [c](const double D, const double h) {
+        const double        total = std::log1p(c * D);
+        const unsigned int  n = std::max<long>(1, std::lround(total / (c * h)));
         std::vector<double> steps;
-        if (c == 0.)
-          {
-            const unsigned int n = std::max<long>(1, std::lround(D / h));
-            for (unsigned int i = 1; i <= n; ++i)
-              steps.push_back(D * i / n);
-          }
-        else
-          {
-            const double       total = std::log1p(c * D);
-            const unsigned int n = std::max<long>(1, std::lround(total / (c * h)));
-            for (unsigned int i = 1; i <= n; ++i)
-              steps.push_back(i == n ? D : std::expm1(total * i / n) / c);
-          }
+        for (unsigned int i = 1; i <= n; ++i)
+          steps.push_back(i == n ? D : std::expm1(total * i / n) / c);
         return steps;
       };
       const auto grid_lines = [&](const double h) {
@@ -160,8 +151,9 @@ namespace softface
       const double h_uniform =
         std::cbrt(6. * L * L * L / parameters.target_n_tetrahedra);
       const double h0 =
-        (c == 0.) ? h_uniform :
-                    h_uniform * (grid_lines(h_uniform).size() - 1.) * h_uniform / L;
+        (c == 0.) ?
+          h_uniform :
+          h_uniform * (grid_lines(h_uniform).size() - 1.) * h_uniform / L;
       std::vector<double> lines = grid_lines(h0);
       for (double f = 0.8; f < 1.25; f += 0.005)
         {
@@ -214,7 +206,9 @@ namespace softface
                   flip[d] = centre[d] > L / 2.;
               for (const auto &path : paths)
                 {
-                  unsigned int corner[3] = {i + flip[0], j + flip[1], k + flip[2]};
+                  unsigned int corner[3] = {i + flip[0],
+                                            j + flip[1],
+                                            k + flip[2]};
                   CellData<3>  cell(4);
                   cell.vertices[0] = index(corner[0], corner[1], corner[2]);
                   for (unsigned int step = 0; step < 3; ++step)

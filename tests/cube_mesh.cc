@@ -90,7 +90,7 @@ SOFTFACE_TEST(cube_mesh)
       for (const auto &vertex : tria.get_vertices())
         lines.insert(vertex[0]);
       const std::vector<double> x(lines.begin(), lines.end());
-      const auto   at_a = std::lower_bound(x.begin(), x.end(), a - 1e-9);
+      const auto   at_a  = std::lower_bound(x.begin(), x.end(), a - 1e-9);
       const double ratio = (x[1] - x[0]) / (*at_a - *(at_a - 1));
       softface_tests::check(*at_a == a && std::abs(ratio / grading - 1.) < 0.3,
                             "spacing at the outer face / at the inner face "

@@ -4,7 +4,6 @@ import csv
 import math
 import os
 import platform
-import subprocess
 
 import numpy as np
 
@@ -67,7 +66,9 @@ def write_accuracy(results, command, scenes, rows, reference_rows, thresholds, m
           "ratio) with quadratic tetrahedra on the finest of its meshes, which are cube "
           "meshes graded towards the inner cube's faces (`Scene/Cube/Grading`: the spacing "
           "grows linearly from the inner cube's face planes to the outer faces by the factor "
-          "given). The sweep runs on uniform meshes. The linear models (linear "
+          "given) and split mirror-symmetrically (`Scene/Cube/Mirror-symmetric split`), so "
+          "that the symmetric plannings get symmetric answers. The sweep runs on softface's "
+          "default uniform cube meshes (every box split along (1, 1, 1)). The linear models (linear "
           "FEM, MTM) therefore carry their model error as well as their discretisation "
           "error; the mass spring model is a different material altogether.", "",
           "Every run is in `accuracy_vs_time.csv`.", ""]

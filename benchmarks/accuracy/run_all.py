@@ -10,7 +10,9 @@ For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
      graded cube meshes (grid spacing growing sixfold from the inner cube's
      face planes to the outer faces: the inner cube's edges and corners make
      the displacement singular, and uniform refinement converges too slowly
-     there), evaluated at those points by its shape functions; its
+     there) with the mirror-symmetric split (on the default split along
+     (1, 1, 1) the symmetric 16.7 mm lift moves the point 7 mm above the
+     inner cube up to 2 mm sideways), evaluated at those points by its shape functions; its
      convergence is the change between the two finest levels;
   3. the sweep: every model at every mesh level and accuracy setting, one
      softface process per case, timed by softface (setup and solve) and
@@ -26,7 +28,6 @@ doc/results/ (the quick mode to build/benchmarks/accuracy/quick/results/).
 import argparse
 import csv
 import os
-import shutil
 import subprocess
 import sys
 import time
@@ -57,7 +58,13 @@ THRESHOLDS = [1.0, 0.5, 0.3, 0.1]  # mm, at the 90th percentile
 
 FULL = dict(
     meshes=[10000, 30000, 100000, 300000],
-    reference_meshes=[10000, 30000, 100000],
+    # Per scene, as fine as the criterion (last change <= a tenth of the
+    # smallest 90% error) needed and the session allowed: 6 mm and rotation
+    # changed 0.012 and 0.015 mm from 30k to 100k, too much; the 16.7 mm
+    # lift's 300k level would take about an hour (100k: 17 min).
+    reference_meshes={"cube_6mm": [10000, 30000, 100000, 300000],
+                      "cube_16.7mm": [10000, 30000, 100000],
+                      "rotation_30deg": [10000, 30000, 100000, 300000]},
     reference_grading=6,
     settings={
         "linear fem": [("Relative tolerance", v) for v in ("1e-2", "1e-4", "1e-8")],
@@ -97,6 +104,12 @@ COST = {"linear fem": 1, "nonlinear fem": 4, "mass tensor": 1,
         "mass spring": 3, "reference": 100, "points": 1, "precision": 2}
 
 
+def reference_meshes(config, key):
+    """The reference's mesh levels: one list for all scenes or one per scene."""
+    levels = config["reference_meshes"]
+    return levels[key] if isinstance(levels, dict) else levels
+
+
 def knob_pairs(setting):
     """A setting is one (name, value) pair or a tuple of them."""
     return list(setting) if isinstance(setting[0], tuple) else [setting]
@@ -110,18 +123,26 @@ def file_name_of(model):
     return model.replace(" ", "_")
 
 
+# False with --report-only: the parameter files then stay what the runs used.
+WRITE_PRMS = True
+
+
 def write_prm(path, scene, model, tets, settings, output, points="", nodal=False,
-              grading=1):
+              grading=1, symmetric=False):
     text = open(os.path.join(HERE, "scene.prm.in")).read()
     lines = "\n".join(f"    set {n} = {v}" for n, v in settings)
     for key, value in {"@TETS@": str(tets), "@GRADING@": str(grading),
+                       "@SYMMETRIC@": "true" if symmetric else "false",
                        "@TRANSLATION@": scene["translation"],
                        "@AXIS@": scene["axis"], "@ANGLE@": str(scene["angle"]),
                        "@MODEL@": model, "@SETTINGS@": lines, "@OUTPUT@": output,
                        "@POINTS@": points, "@NODAL@": "true" if nodal else "false"}.items():
         text = text.replace(key, value)
-    with open(path, "w") as f:
-        f.write(text)
+    unchanged = os.path.exists(path) and open(path).read() == text
+    if not unchanged and WRITE_PRMS:
+        with open(path, "w") as f:
+            f.write(text)
+    return unchanged
 
 
 def read_values(path):
@@ -151,13 +172,17 @@ class Progress:
         self.done += cost
 
 
+def run_finished(log):
+    return os.path.exists(log) and any(line.startswith("Outputs in") for line in open(log))
+
+
 def run_softface(prm, log, report_only=False):
     """Run one case (or, with report_only, read the log of an earlier run of
     it); returns (ok, first error line)."""
     if report_only:
         if not os.path.exists(log):
             sys.exit(f"--report-only: no earlier run of {prm} (missing {log})")
-        finished = any(line.startswith("Outputs in") for line in open(log))
+        done = run_finished(log)
     else:
         with open(log, "w") as out:
             result = subprocess.run([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
@@ -167,7 +192,7 @@ def run_softface(prm, log, report_only=False):
             message = line[len("softface: error:"):].strip()
             break
     if report_only:
-        return finished and not message, message
+        return done and not message, message
     return result.returncode == 0, message
 
 
@@ -200,6 +225,9 @@ def main():
     parser.add_argument("--report-only", action="store_true",
                         help="no softface runs: rewrite the reports from the outputs an "
                         "earlier run left in build/benchmarks/accuracy/")
+    parser.add_argument("--resume", action="store_true",
+                        help="run only the cases whose parameter file changed or whose "
+                        "earlier run did not finish; reuse the others' outputs")
     args = parser.parse_args()
     config = QUICK if args.quick else FULL
     work = os.path.join(ROOT, "build", "benchmarks", "accuracy",
@@ -215,7 +243,7 @@ def main():
     for scene in scenes:
         cases.append(dict(scene=scene, kind="points", model="linear fem",
                           tets=config["meshes"][0], settings=BASE_SETTINGS["linear fem"]))
-        for tets in config["reference_meshes"]:
+        for tets in reference_meshes(config, scene["key"]):
             cases.append(dict(scene=scene, kind="reference", model="nonlinear fem",
                               tets=tets, settings=REFERENCE_SETTINGS))
         for model in MODELS:
@@ -229,6 +257,16 @@ def main():
     progress = Progress(sum(c["tets"] * COST[c["model"] if c["kind"] == "sweep" else c["kind"]]
                             for c in cases))
     progress.n = len(cases)
+
+    global WRITE_PRMS
+    WRITE_PRMS = not args.report_only
+
+    def reuse(unchanged, output):
+        """Read an earlier run's outputs instead of running the case?"""
+        if args.report_only and not unchanged:
+            sys.exit(f"--report-only: {output}.prm is not what this configuration "
+                     "would run; run without --report-only (or with --resume)")
+        return args.report_only or (args.resume and unchanged and run_finished(output + ".log"))
 
     rows, reference_rows, precision = [], [], {}
     points_file, reference_values = {}, {}
@@ -250,8 +288,9 @@ def main():
         progress.step(label, tets * COST[model if kind == "sweep" else kind])
 
         if kind == "points":
-            write_prm(prm, scene, model, tets, case["settings"], output, nodal=True)
-            ok, message = run_softface(prm, output + ".log", args.report_only)
+            unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
+                                  nodal=True)
+            ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
             if not ok:
                 sys.exit(f"the evaluation-point run failed: {message} (log {output}.log)")
             points, _ = read_values(os.path.join(output, "displacements_linear_fem.csv"))
@@ -267,8 +306,8 @@ def main():
             history = output + "_history.csv"
             settings = [("Stop gradient threshold", "1e-5"), ("Active set", "false"),
                         ("Maximum sweeps", "100000"), ("Precision history file", history)]
-            write_prm(prm, scene, model, tets, settings, output)
-            ok, message = run_softface(prm, output + ".log", args.report_only)
+            unchanged = write_prm(prm, scene, model, tets, settings, output)
+            ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
             row = summary_row(output, model)
             precision[key] = dict(scene=scene, tets=tets, ok=ok, message=message,
                                   vertices=row["n_vertices"] if row else "",
@@ -281,10 +320,11 @@ def main():
             report.write_precision(results, command, precision)
             continue
 
-        write_prm(prm, scene, model, tets, case["settings"], output,
+        unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
                   points=points_file[key],
-                  grading=config["reference_grading"] if kind == "reference" else 1)
-        ok, message = run_softface(prm, output + ".log", args.report_only)
+                  grading=config["reference_grading"] if kind == "reference" else 1,
+                  symmetric=(kind == "reference"))
+        ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
         row = summary_row(output, model)
         values_path = os.path.join(output, f"evaluation_{file_name_of(model)}.csv")
         entry = dict(scene=key, model=model if kind == "sweep" else "reference (P2 neo-hooke)",
@@ -302,7 +342,7 @@ def main():
             reference_rows.append(entry)
             if entry["values"] is None:
                 print(f"    reference failed: {message}", flush=True)
-            if tets == config["reference_meshes"][-1]:
+            if tets == reference_meshes(config, key)[-1]:
                 # The finest reference that converged scores the sweep.
                 done = [r for r in reference_rows if r["scene"] == key and r["values"] is not None]
                 if done:
@@ -323,10 +363,14 @@ def main():
 
     # The reports state how long the runs took, also when rewritten later.
     info = os.path.join(work, "run_time_s.txt")
+    earlier = float(open(info).read()) if os.path.exists(info) else float("nan")
     if args.report_only:
-        elapsed = float(open(info).read()) if os.path.exists(info) else float("nan")
+        elapsed = earlier
     else:
+        # A resumed run adds its time to the run it completes.
         elapsed = time.time() - progress.start
+        if args.resume and earlier == earlier:
+            elapsed += earlier
         with open(info, "w") as f:
             f.write(f"{elapsed:.1f}\n")
     report.write_accuracy(results, command, scenes, rows, reference_rows, THRESHOLDS,

@@ -548,8 +548,7 @@ namespace softface
               else
                 line << "relative residual before " << std::setprecision(2)
                      << result.residual << ", ";
-              line
-                   << last_report.linear_iterations - linear_before
+              line << last_report.linear_iterations - linear_before
                    << " linear iterations, " << std::fixed
                    << std::setprecision(1) << iteration_timer.wall_time()
                    << " s\n";
