@@ -59,10 +59,12 @@ THRESHOLDS = [1.0, 0.5, 0.3, 0.1]  # mm, at the 90th percentile
 FULL = dict(
     meshes=[10000, 30000, 100000, 300000],
     # Per scene, as fine as the criterion (last change <= a tenth of the
-    # smallest 90% error) needed and the session allowed: 6 mm and rotation
-    # changed 0.012 and 0.015 mm from 30k to 100k, too much; the 16.7 mm
-    # lift's 300k level would take about an hour (100k: 17 min).
-    reference_meshes={"cube_6mm": [10000, 30000, 100000, 300000],
+    # smallest 90% error) needed and the machine allowed: the rotation
+    # changed 0.015 mm from 30k to 100k, too much, so it has a 300k level.
+    # The 6 mm lift's 300k level stalled in its second Newton iteration (CG
+    # with ML over 14 minutes) and the 16.7 mm lift's would take about an
+    # hour (100k: 17 min): both still to do.
+    reference_meshes={"cube_6mm": [10000, 30000, 100000],
                       "cube_16.7mm": [10000, 30000, 100000],
                       "rotation_30deg": [10000, 30000, 100000, 300000]},
     reference_grading=6,
