@@ -76,7 +76,9 @@ namespace softface
                         Patterns::Integer(1),
                         "With 'cg amg' or 'gmres amg': when a linear solve "
                         "takes more iterations than this, ML is rebuilt on "
-                        "the current tangent for the following solves.");
+                        "the current tangent for the following solves; a "
+                        "solve still running at twice this many is "
+                        "continued with ML rebuilt at once.");
       prm.declare_entry("Polynomial degree",
                         "1",
                         Patterns::Integer(1, 2),
@@ -408,40 +410,61 @@ namespace softface
         }
       else
         {
-          SolverControl control(2000,
-                                linear_tolerance * rhs.l2_norm(),
-                                false,
-                                false);
-          try
+          // ML was built on the tangent at rest (or at the last rebuild);
+          // far from rest (large motions, compressed tissue) it loses its
+          // grip and CG needs hundreds of iterations. A solve that passes
+          // twice the rebuild limit is therefore continued, from where it
+          // got to, with ML rebuilt on the current tangent; a solve over the
+          // limit also triggers a rebuild for the next ones.
+          const unsigned int max_iterations = 2000;
+          const unsigned int first_attempt =
+            std::min(max_iterations, 2 * amg_rebuild_iterations);
+          unsigned int iterations = 0;
+          const auto   attempt    = [&](const unsigned int limit) {
+            SolverControl control(limit,
+                                  linear_tolerance * rhs.l2_norm(),
+                                  false,
+                                  false);
+            bool converged = true;
+            try
+              {
+                if (solver_name == "cg amg")
+                  {
+                    SolverCG<Vector<double>> cg(control);
+                    cg.solve(tangent, solution, rhs, amg);
+                  }
+                else
+                  {
+                    SolverGMRES<Vector<double>> gmres(
+                      control,
+                      SolverGMRES<Vector<double>>::AdditionalData(52));
+                    gmres.solve(tangent, solution, rhs, amg);
+                  }
+              }
+            catch (const std::exception &e)
+              {
+                converged = false;
+              }
+            iterations += control.last_step();
+            return converged;
+          };
+          const auto rebuild = [&]() {
+            amg_matrix.reinit(tangent);
+            build_amg();
+            ++last_report.amg_rebuilds;
+          };
+          ok = attempt(first_attempt);
+          if (!ok && first_attempt < max_iterations)
             {
-              if (solver_name == "cg amg")
-                {
-                  SolverCG<Vector<double>> cg(control);
-                  cg.solve(tangent, solution, rhs, amg);
-                }
-              else
-                {
-                  SolverGMRES<Vector<double>> gmres(
-                    control, SolverGMRES<Vector<double>>::AdditionalData(52));
-                  gmres.solve(tangent, solution, rhs, amg);
-                }
+              rebuild();
+              ok = attempt(max_iterations - first_attempt);
             }
-          catch (const std::exception &e)
-            {
-              ok     = false;
-              reason = solver_name + " did not converge (" +
-                       std::to_string(control.last_step()) + " iterations)";
-            }
-          last_report.linear_iterations += control.last_step();
-          // ML was built on the tangent at rest; far from rest (large
-          // motions, compressed tissue) it loses its grip and CG needs
-          // hundreds of iterations. Rebuild it on the current tangent then.
-          if (control.last_step() > amg_rebuild_iterations)
-            {
-              amg_matrix.reinit(tangent);
-              build_amg();
-              ++last_report.amg_rebuilds;
-            }
+          else if (iterations > amg_rebuild_iterations)
+            rebuild();
+          if (!ok)
+            reason = solver_name + " did not converge (" +
+                     std::to_string(iterations) + " iterations)";
+          last_report.linear_iterations += iterations;
         }
       time_linear += timer.wall_time();
       return ok;
