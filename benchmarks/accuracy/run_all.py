@@ -62,8 +62,10 @@ FULL = dict(
     # smallest 90% error) needed and the machine allowed: the rotation
     # changed 0.015 mm from 30k to 100k, too much, so it has a 300k level.
     # The 6 mm lift's 300k level stalled in its second Newton iteration (CG
-    # with ML over 14 minutes) and the 16.7 mm lift's would take about an
-    # hour (100k: 17 min): both still to do.
+    # over 14 minutes, also with ML rebuilt during the solve: probably an
+    # indefinite tangent after the full-load predictor on the smallest
+    # cells) and the 16.7 mm lift's would take about an hour (100k: 17 min):
+    # both still to do.
     reference_meshes={"cube_6mm": [10000, 30000, 100000],
                       "cube_16.7mm": [10000, 30000, 100000],
                       "rotation_30deg": [10000, 30000, 100000, 300000]},
