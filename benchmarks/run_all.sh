@@ -4,7 +4,7 @@
 # benchmark with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation, plus
 # the seed's MTM precision study. Shows "case i of N, elapsed, estimate".
 #
-#   benchmarks/run_all.sh           full run (about an hour on 2 cores),
+#   benchmarks/run_all.sh           full run (about two hours on 2 cores),
 #                                   writes doc/results/accuracy_vs_time.{md,csv,png}
 #                                   and doc/results/mtm_precision.{md,csv,png}
 #   benchmarks/run_all.sh --quick   coarser meshes, fewer settings (under 5

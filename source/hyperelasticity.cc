@@ -21,7 +21,24 @@ namespace softface
         return Law::st_venant_kirchhoff;
       if (name == "neo-hooke")
         return Law::neo_hooke;
+      if (name == "linear")
+        return Law::linear;
       throw Error("Unknown material law '" + name + "'.");
+    }
+
+    std::string
+    law_name(const Law law)
+    {
+      switch (law)
+        {
+          case Law::st_venant_kirchhoff:
+            return "st venant-kirchhoff";
+          case Law::neo_hooke:
+            return "neo-hooke";
+          case Law::linear:
+            return "linear";
+        }
+      return "";
     }
 
     bool
@@ -38,7 +55,7 @@ namespace softface
       for (unsigned int a = 0; a < 4; ++a)
         F += outer_product(u[a], grad[a]);
       const double J = determinant(F);
-      if (!(J > 0.))
+      if (!(J > 0.) && law != Law::linear)
         return false;
 
       // First Piola-Kirchhoff stress P and, for the tangent, the pieces of
@@ -57,6 +74,15 @@ namespace softface
           b               = F * transpose(F);
           response.energy = volume * (0.5 * lambda * trace_E * trace_E +
                                       mu * scalar_product(E, E));
+        }
+      else if (law == Law::linear)
+        {
+          const Tensor<2, 3> I      = unit_symmetric_tensor<3>();
+          const Tensor<2, 3> strain = 0.5 * (F + transpose(F)) - I;
+          P = lambda * trace(strain) * I + 2. * mu * strain;
+          response.energy =
+            volume * (0.5 * lambda * trace(strain) * trace(strain) +
+                      mu * scalar_product(strain, strain));
         }
       else
         {
@@ -97,10 +123,14 @@ namespace softface
         {
           // dP_iJ/dF_kL = mu delta_ik delta_JL + lambda F^-T_iJ F^-T_kL
           //               - (lambda ln J - mu) F^-1_Jk F^-1_Li
+          // At F = I this is the linear law's (constant) derivative
+          //   lambda delta_iJ delta_kL + mu (delta_ik delta_JL + delta_iL
+          //   delta_kJ).
+          const bool                  linear = (law == Law::linear);
           std::array<Tensor<1, 3>, 4> Hg;
           for (unsigned int a = 0; a < 4; ++a)
-            Hg[a] = F_inverse_transpose * grad[a];
-          const double c2 = lambda * log_J - mu;
+            Hg[a] = linear ? grad[a] : F_inverse_transpose * grad[a];
+          const double c2 = linear ? -mu : lambda * log_J - mu;
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int c = 0; c < 4; ++c)
               {
@@ -125,10 +155,23 @@ namespace softface
                       Tensor<4, 3>       *A)
     {
       const double J = determinant(F);
-      if (!(J > 0.))
+      if (!(J > 0.) && law != Law::linear)
         return false;
       const Tensor<2, 3> I = unit_symmetric_tensor<3>();
-      if (law == Law::st_venant_kirchhoff)
+      if (law == Law::linear)
+        {
+          const Tensor<2, 3> strain = 0.5 * (F + transpose(F)) - I;
+          P = lambda * trace(strain) * I + 2. * mu * strain;
+          if (A != nullptr)
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int J_ = 0; J_ < 3; ++J_)
+                for (unsigned int k = 0; k < 3; ++k)
+                  for (unsigned int L = 0; L < 3; ++L)
+                    (*A)[i][J_][k][L] = (i == J_ && k == L ? lambda : 0.) +
+                                        (i == k && J_ == L ? mu : 0.) +
+                                        (i == L && k == J_ ? mu : 0.);
+        }
+      else if (law == Law::st_venant_kirchhoff)
         {
           const Tensor<2, 3> E = 0.5 * (transpose(F) * F - I);
           const Tensor<2, 3> S = lambda * trace(E) * I + 2. * mu * E;

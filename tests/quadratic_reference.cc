@@ -1,12 +1,13 @@
 // The pieces of the accuracy benchmark's quadratic reference:
 // 1. forces and tangent by quadrature (Hyperelasticity::assemble) on the
-//    P1 layout equal the closed-form P1 ones to 1e-12 (both laws, distorted
-//    mesh, strains of several percent);
+//    P1 layout equal the closed-form P1 ones to 1e-12 (all three laws,
+//    distorted mesh, strains of several percent);
 // 2. a homogeneous deformation u = G x prescribed on every join point is an
 //    equilibrium of every hyperelastic law, and lies in the quadratic space:
 //    the degree-2 model must return it to 1e-8 at the vertices and, through
 //    PointEvaluation of its quadratic field, at points inside the cells
-//    (direct and cg amg); the P1 field interpolated there must too.
+//    (Neo-Hooke with direct and cg amg, the linear law with direct); the
+//    P1 field interpolated there must too.
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/grid/grid_tools.h>
@@ -53,7 +54,7 @@ SOFTFACE_TEST(quadratic_reference)
           1.5 * std::sin(0.05 * x[0] + c) * std::cos(0.07 * x[1] - 0.3 * c) +
           0.02 * x[(c + 1) % 3];
       }
-  for (const std::string law : {"st venant-kirchhoff", "neo-hooke"})
+  for (const std::string law : {"st venant-kirchhoff", "neo-hooke", "linear"})
     {
       Models::NonlinearFEM model;
       model.set_options(law, "direct");
@@ -105,15 +106,20 @@ SOFTFACE_TEST(quadratic_reference)
       }
   const PointEvaluation evaluation(scene.triangulation, points);
 
-  for (const std::string solver : {"direct", "cg amg"})
+  for (const auto &[law, solver] :
+       std::vector<std::pair<std::string, std::string>>{{"neo-hooke", "direct"},
+                                                        {"neo-hooke", "cg amg"},
+                                                        {"linear", "direct"}})
     {
       Models::NonlinearFEM model;
-      model.set_options("neo-hooke", solver, 1., 2);
+      model.set_options(law, solver, 1., 2);
+      const std::string name = law + ", " + solver;
       model.setup(scene);
       Vector<double> displacement;
       model.solve(prescribed, displacement);
-      deallog << solver << ": quadratic DoFs / P1 DoFs > 4: "
-              << (model.n_dofs() > 4 * n) << std::endl;
+      deallog << name
+              << ": quadratic DoFs / P1 DoFs > 4: " << (model.n_dofs() > 4 * n)
+              << std::endl;
 
       double vertex_error = 0.;
       for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
@@ -124,7 +130,7 @@ SOFTFACE_TEST(quadratic_reference)
                      (G * scene.triangulation.get_vertices()[v])[c]));
       const auto [field_dofs, field] = model.displacement_field();
       softface_tests::check(field_dofs != nullptr,
-                            solver + ": the quadratic field is offered");
+                            name + ": the quadratic field is offered");
       const auto values    = evaluation.evaluate(*field_dofs, *field);
       const auto p1_values = evaluation.evaluate(scene.dof_handler, displacement);
       double     point_error = 0., p1_error = 0.;
@@ -135,11 +141,11 @@ SOFTFACE_TEST(quadratic_reference)
           p1_error = std::max(p1_error, (p1_values[p] - G * points[p]).norm());
         }
       softface_tests::check(vertex_error < 1e-8,
-                            solver + ": vertex values = G x to 1e-8");
+                            name + ": vertex values = G x to 1e-8");
       softface_tests::check(point_error < 1e-8,
-                            solver + ": quadratic field = G x inside cells");
+                            name + ": quadratic field = G x inside cells");
       softface_tests::check(p1_error < 1e-8,
-                            solver + ": P1 interpolation = G x inside cells");
+                            name + ": P1 interpolation = G x inside cells");
     }
 
   // A point outside the mesh is refused with its number.

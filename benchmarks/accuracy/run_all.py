@@ -14,10 +14,16 @@ For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
      (1, 1, 1) the symmetric 16.7 mm lift moves the point 7 mm above the
      inner cube up to 2 mm sideways), evaluated at those points by its shape functions; its
      convergence is the change between the two finest levels;
-  3. the sweep: every model at every mesh level and accuracy setting, one
+  3. linear elasticity's model error: linear FEM's equations solved with
+     the reference's discretisation ('Material law = linear', quadratic
+     tetrahedra, the two finest reference meshes), compared with the
+     reference on the same mesh; it also gives the limit P1 linear FEM
+     converges to, which splits the linear models' error into model and
+     discretisation error;
+  4. the sweep: every model at every mesh level and accuracy setting, one
      softface process per case, timed by softface (setup and solve) and
      evaluated at the same points;
-  4. error statistics (median, 90%, 95%, max of |u - u_ref| in mm), Pareto
+  5. error statistics (median, 90%, 95%, max of |u - u_ref| in mm), Pareto
      tables and a plot.
 Then the MTM precision study (seed 2.3.5) on the same three scenes.
 
@@ -63,10 +69,13 @@ FULL = dict(
     # changed 0.015 mm from 30k to 100k, too much, so it has a 300k level.
     # The 6 mm lift's 300k level stalled in its second Newton iteration
     # with the whole lift in one load step (CG over 14 minutes, also with ML
-    # rebuilt during the solve); in quarters it converges. The 16.7 mm lift's
-    # 300k level would take about an hour (100k: 17 min): still to do.
+    # rebuilt during the solve); in quarters it converges. The 16.7 mm lift
+    # changed 0.049 mm from 30k to 100k (a tenth of its smallest error:
+    # 0.046), so it has a 300k level too, also started in quarters (its 100k
+    # level cut back from 1 to 0.25 anyway): 51 min, 10.2 GB, change 0.040
+    # mm against 0.049.
     reference_meshes={"cube_6mm": [10000, 30000, 100000, 300000],
-                      "cube_16.7mm": [10000, 30000, 100000],
+                      "cube_16.7mm": [10000, 30000, 100000, 300000],
                       "rotation_30deg": [10000, 30000, 100000, 300000]},
     reference_grading=6,
     settings={
@@ -101,12 +110,16 @@ BASE_SETTINGS = {
 }
 REFERENCE_SETTINGS = [("Material law", "neo-hooke"), ("Solver", "cg amg"),
                       ("Polynomial degree", "2"), ("Residual tolerance", "1e-9")]
+# Linear elasticity on the reference's discretisation (its model error).
+LINEAR_P2_SETTINGS = [("Material law", "linear")] + REFERENCE_SETTINGS[1:]
 # Added for single reference levels (scene, tets).
-REFERENCE_EXTRA_SETTINGS = {("cube_6mm", 300000): [("Initial load increment", "0.25")]}
+REFERENCE_EXTRA_SETTINGS = {("cube_6mm", 300000): [("Initial load increment", "0.25")],
+                            ("cube_16.7mm", 300000): [("Initial load increment", "0.25")]}
 
 # Rough relative cost per tetrahedron, only for the progress estimate.
 COST = {"linear fem": 1, "nonlinear fem": 4, "mass tensor": 1,
-        "mass spring": 3, "reference": 100, "points": 1, "precision": 2}
+        "mass spring": 3, "reference": 100, "model error": 20, "points": 1,
+        "precision": 2}
 
 
 def reference_meshes(config, key):
@@ -243,15 +256,20 @@ def main():
     scenes = [s for s in SCENES if not args.scenes or s["key"] in args.scenes.split(",")]
     command = "benchmarks/run_all.sh" + (" --quick" if args.quick else "")
 
-    # Every case, in order: points, references (finest last), sweep, precision.
+    # Every case, in order: points, references (finest last), linear P2 on
+    # the two finest reference meshes, sweep, precision.
     cases = []
     for scene in scenes:
         cases.append(dict(scene=scene, kind="points", model="linear fem",
                           tets=config["meshes"][0], settings=BASE_SETTINGS["linear fem"]))
-        for tets in reference_meshes(config, scene["key"]):
+        levels = reference_meshes(config, scene["key"])
+        for tets in levels:
             cases.append(dict(scene=scene, kind="reference", model="nonlinear fem",
                               tets=tets, settings=REFERENCE_SETTINGS +
                               REFERENCE_EXTRA_SETTINGS.get((scene["key"], tets), [])))
+        for tets in levels[-2:]:
+            cases.append(dict(scene=scene, kind="model error", model="nonlinear fem",
+                              tets=tets, settings=LINEAR_P2_SETTINGS))
         for model in MODELS:
             for tets in config["meshes"]:
                 for setting in config["settings"][model]:
@@ -263,6 +281,8 @@ def main():
     progress = Progress(sum(c["tets"] * COST[c["model"] if c["kind"] == "sweep" else c["kind"]]
                             for c in cases))
     progress.n = len(cases)
+    # Each model's tightest setting: the one that shows its discretisation.
+    tightest = {model: knob_text(config["settings"][model][-1]) for model in MODELS}
 
     global WRITE_PRMS
     WRITE_PRMS = not args.report_only
@@ -274,7 +294,7 @@ def main():
                      "would run; run without --report-only (or with --resume)")
         return args.report_only or (args.resume and unchanged and run_finished(output + ".log"))
 
-    rows, reference_rows, precision = [], [], {}
+    rows, reference_rows, linear_p2_rows, precision = [], [], [], {}
     points_file, reference_values = {}, {}
     for case in cases:
         scene, key = case["scene"], case["scene"]["key"]
@@ -284,11 +304,15 @@ def main():
         name = f"{kind}_{file_name_of(model)}_{tets}"
         if kind == "reference":
             name = f"{kind}_graded{config['reference_grading']}_{tets}"
+        if kind == "model error":
+            name = f"linear_p2_graded{config['reference_grading']}_{tets}"
         if kind == "sweep":
             name += "_" + "_".join(v for _, v in knob_pairs(case["setting"]))
         output = os.path.join(folder, name)
         prm = output + ".prm"
         label = f"{key}: {kind} {model}, {tets} tets"
+        if kind == "model error":
+            label = f"{key}: model error, linear elasticity on quadratic tetrahedra, {tets} tets"
         if kind == "sweep":
             label += ", " + knob_text(case["setting"])
         progress.step(label, tets * COST[model if kind == "sweep" else kind])
@@ -322,26 +346,35 @@ def main():
             # A scene is complete: write what is done so far.
             finished = [sc for sc in scenes if sc["key"] in precision]
             report.write_accuracy(results, command, finished, rows, reference_rows,
-                                  THRESHOLDS, MODELS, time.time() - progress.start)
+                                  linear_p2_rows, tightest, THRESHOLDS, MODELS,
+                                  time.time() - progress.start)
             report.write_precision(results, command, precision)
             continue
 
         unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
                   points=points_file[key],
-                  grading=config["reference_grading"] if kind == "reference" else 1,
-                  symmetric=(kind == "reference"))
+                  grading=config["reference_grading"] if kind != "sweep" else 1,
+                  symmetric=(kind != "sweep"))
         ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
         row = summary_row(output, model)
         values_path = os.path.join(output, f"evaluation_{file_name_of(model)}.csv")
-        entry = dict(scene=key, model=model if kind == "sweep" else "reference (P2 neo-hooke)",
+        entry = dict(scene=key, model={"sweep": model, "reference": "reference (P2 neo-hooke)",
+                                       "model error": "linear elasticity (P2)"}[kind],
                      setting=(knob_text(case["setting"]) if kind == "sweep" else
                               f"degree 2, grading {config['reference_grading']}"),
+                     level=tets,
                      n_tets=row["n_tets"] if row else "", n_vertices=row["n_vertices"] if row else "",
                      setup_s=float(row["setup_s"]) if row else float("nan"),
                      solve_s=float(row["solve_s"]) if row else float("nan"),
                      iterations=row["iterations"] if row else "",
                      status="ok" if ok and row else "failed", message=message)
         entry["total_s"] = entry["setup_s"] + entry["solve_s"]
+        if kind == "model error":
+            entry["values"] = read_values(values_path)[1] if ok and row else None
+            linear_p2_rows.append(entry)
+            if entry["values"] is None:
+                print(f"    failed: {message}", flush=True)
+            continue
         if kind == "reference":
             entry["details"] = row["details"] if row else ""
             entry["values"] = read_values(values_path)[1] if ok and row else None
@@ -357,7 +390,8 @@ def main():
                         r["used"] = r is done[-1]
             continue
         if ok and row and key in reference_values:
-            entry.update(error_statistics(read_values(values_path)[1], reference_values[key]))
+            entry["values"] = read_values(values_path)[1]
+            entry.update(error_statistics(entry["values"], reference_values[key]))
         elif ok and row:
             entry["message"] = "no converged reference"
         rows.append(entry)
@@ -379,8 +413,8 @@ def main():
             elapsed += earlier
         with open(info, "w") as f:
             f.write(f"{elapsed:.1f}\n")
-    report.write_accuracy(results, command, scenes, rows, reference_rows, THRESHOLDS,
-                          MODELS, elapsed)
+    report.write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_rows,
+                          tightest, THRESHOLDS, MODELS, elapsed)
     report.write_precision(results, command, precision)
     print(f"done in {elapsed / 60:.1f} min; results in {results}/ "
           "(accuracy_vs_time.md/.csv/.png, mtm_precision.md/.csv/.png)", flush=True)

@@ -33,12 +33,22 @@ namespace softface
       st_venant_kirchhoff,
       /// W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2: stiffens under
       /// compression, so it can follow motions that crush tissue.
-      neo_hooke
+      neo_hooke,
+      /// Hooke's law in the small-strain measure eps = sym(F - I), the
+      /// linear FEM model's equations: one Newton iteration solves them.
+      /// With quadratic tetrahedra it gives linear FEM on the reference's
+      /// discretisation, which separates linear elasticity's model error
+      /// from P1's discretisation error. Never refuses a tetrahedron.
+      linear
     };
 
-    /// "st venant-kirchhoff" or "neo-hooke".
+    /// "st venant-kirchhoff", "neo-hooke" or "linear".
     Law
     law_from_name(const std::string &name);
+
+    /// The inverse of law_from_name().
+    std::string
+    law_name(const Law law);
 
     /// What one tetrahedron contributes at a displacement.
     struct CellResponse
@@ -52,7 +62,8 @@ namespace softface
      * Forces (and, if @p with_tangent, the tangent) of a tetrahedron with
      * reference shape gradients @p grad and volume @p volume at vertex
      * displacements @p u. Returns false, leaving @p response unspecified,
-     * if det F <= 0 (the tetrahedron is inverted).
+     * if det F <= 0 (the tetrahedron is inverted) and the law is not
+     * linear.
      */
     bool
     cell_response(const Law                          law,

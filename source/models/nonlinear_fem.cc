@@ -27,15 +27,19 @@ namespace softface
     void
     NonlinearFEM::declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry(
-        "Material law",
-        "neo-hooke",
-        Patterns::Selection("st venant-kirchhoff|neo-hooke"),
-        "'st venant-kirchhoff' (the seed's, and CalculiX's "
-        "*ELASTIC with NLGEOM; softens under strong "
-        "compression) or compressible 'neo-hooke' (stiffens "
-        "under compression). Lame parameters from Young's "
-        "modulus and Poisson's ratio as for the linear models.");
+      prm.declare_entry("Material law",
+                        "neo-hooke",
+                        Patterns::Selection(
+                          "st venant-kirchhoff|neo-hooke|linear"),
+                        "'st venant-kirchhoff' (the seed's, and CalculiX's "
+                        "*ELASTIC with NLGEOM; softens under strong "
+                        "compression) or compressible 'neo-hooke' (stiffens "
+                        "under compression). 'linear' solves linear FEM's "
+                        "small-strain equations with this model's machinery: "
+                        "with 'Polynomial degree = 2' it gives linear "
+                        "elasticity's answer on the reference discretisation. "
+                        "Lame parameters from Young's modulus and Poisson's "
+                        "ratio as for the linear models.");
       prm.declare_entry("Solver",
                         "cg amg",
                         Patterns::Selection("direct|cg amg|gmres amg"),
@@ -654,10 +658,7 @@ namespace softface
               if (increment < minimum_increment)
                 {
                   std::ostringstream m;
-                  m << "nonlinear fem ("
-                    << (law == Hyperelasticity::Law::neo_hooke ?
-                          "neo-hooke" :
-                          "st venant-kirchhoff")
+                  m << "nonlinear fem (" << Hyperelasticity::law_name(law)
                     << ", " << solver_name << "): load step "
                     << last_report.load_steps + 1 << " failed at load " << next
                     << " of the planning: " << step.reason

@@ -49,6 +49,11 @@ namespace softface
      * motion, which is affine, so its value is the interpolation of the
      * join points' prescribed displacement. solve() returns the vertex
      * values; displacement_field() gives the whole quadratic field.
+     *
+     * "Material law = linear" solves linear FEM's small-strain equations
+     * with the same machinery (one Newton iteration with a direct solver):
+     * with quadratic tetrahedra it measures linear elasticity's model error
+     * apart from P1's discretisation error.
      */
     class NonlinearFEM : public Interface
     {
