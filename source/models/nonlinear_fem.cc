@@ -46,7 +46,10 @@ namespace softface
                         "Linear solver of each Newton iteration: 'direct' "
                         "(CHOLMOD, ordering reused), 'cg amg' or 'gmres amg' "
                         "(Trilinos ML on the linear stiffness; rebuilt on the "
-                        "tangent when a solve gets slow).");
+                        "tangent when a solve gets slow). CG stops when it "
+                        "meets negative curvature (the tangent is not "
+                        "positive definite) and the load step is cut back, "
+                        "as when the direct solver's factorisation fails.");
       prm.declare_entry("Initial load increment",
                         "1",
                         Patterns::Double(0., 1.),
@@ -423,8 +426,9 @@ namespace softface
           const unsigned int max_iterations = 2000;
           const unsigned int first_attempt =
             std::min(max_iterations, 2 * amg_rebuild_iterations);
-          unsigned int iterations = 0;
-          const auto   attempt    = [&](const unsigned int limit) {
+          unsigned int iterations         = 0;
+          bool         negative_curvature = false;
+          const auto   attempt            = [&](const unsigned int limit) {
             SolverControl control(limit,
                                   linear_tolerance * rhs.l2_norm(),
                                   false,
@@ -434,7 +438,23 @@ namespace softface
               {
                 if (solver_name == "cg amg")
                   {
+                    // A step length alpha <= 0 means p^T K p <= 0: the
+                    // tangent is not positive definite, where CG has no
+                    // answer and used to run to its limit. Stop at once
+                    // (the signal reports alpha one iteration late) and let
+                    // Newton cut the load back, as the direct solver does.
                     SolverCG<Vector<double>> cg(control);
+                    cg.connect_coefficients_slot(
+                      [&](const double alpha, const double) {
+                        if (!(alpha > 0.))
+                          negative_curvature = true;
+                      });
+                    cg.connect([&](const unsigned int,
+                                   const double,
+                                   const Vector<double> &) {
+                      return negative_curvature ? SolverControl::failure :
+                                                               SolverControl::success;
+                    });
                     cg.solve(tangent, solution, rhs, amg);
                   }
                 else
@@ -458,14 +478,18 @@ namespace softface
             ++last_report.amg_rebuilds;
           };
           ok = attempt(first_attempt);
-          if (!ok && first_attempt < max_iterations)
+          if (!ok && !negative_curvature && first_attempt < max_iterations)
             {
               rebuild();
               ok = attempt(max_iterations - first_attempt);
             }
           else if (iterations > amg_rebuild_iterations)
             rebuild();
-          if (!ok)
+          if (negative_curvature)
+            reason = "the tangent is not positive definite (CG found "
+                     "negative curvature after " +
+                     std::to_string(iterations) + " iterations)";
+          else if (!ok)
             reason = solver_name + " did not converge (" +
                      std::to_string(iterations) + " iterations)";
           last_report.linear_iterations += iterations;

@@ -39,7 +39,9 @@ namespace softface
      *
      * Linear solves: "direct" (CHOLMOD, its ordering reused across Newton
      * iterations), "cg amg" or "gmres amg" (preconditioned by ML built once
-     * on the linear stiffness, with the rigid-body modes).
+     * on the linear stiffness, with the rigid-body modes). CG stops on
+     * negative curvature: the tangent is then not positive definite, and
+     * the step fails as it does when the Cholesky factorisation fails.
      *
      * With "Polynomial degree = 2" the same equations are solved with
      * quadratic tetrahedra (FE_SimplexP<3>(2), forces and tangent by
