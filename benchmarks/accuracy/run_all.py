@@ -69,7 +69,8 @@ FULL = dict(
     # changed 0.015 mm from 30k to 100k, too much, so it has a 300k level.
     # The 6 mm lift's 300k level stalled in its second Newton iteration
     # with the whole lift in one load step (CG over 14 minutes, also with ML
-    # rebuilt during the solve); in quarters it converges. The 16.7 mm lift
+    # rebuilt during the solve); in quarters it converges (since CG stops on
+    # negative curvature, also in one step: 12.7 min). The 16.7 mm lift
     # changed 0.049 mm from 30k to 100k (a tenth of its smallest error:
     # 0.046), so it has a 300k level too, also started in quarters (its 100k
     # level cut back from 1 to 0.25 anyway): 51 min, 10.2 GB, change 0.040
