@@ -3,10 +3,10 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/interface.h>
-#include <softface/simulator.h>
-#include <softface/threads.h>
+#include <softface/simulator/simulator.h>
+#include <softface/core/threads.h>
 
 #include <iostream>
 #include <string>

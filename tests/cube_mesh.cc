@@ -11,7 +11,7 @@
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
-#include <softface/mesh.h>
+#include <softface/core/mesh.h>
 
 #include "tests.h"
 

@@ -3,8 +3,8 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <softface/error.h>
-#include <softface/threads.h>
+#include <softface/core/error.h>
+#include <softface/core/threads.h>
 
 #include "tests.h"
 

@@ -7,7 +7,7 @@
 // or stop with a message stating the pending step and the inverted
 // tetrahedra (springs alone let the tissue above the bone collapse).
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/mass_spring.h>
 
 #include "scenes.h"

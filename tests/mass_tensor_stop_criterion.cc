@@ -6,7 +6,7 @@
 // than sweeping every point; damped Jacobi order meets the bound too, while
 // undamped Jacobi is detected as diverging with a clear message.
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/mass_tensor.h>
 
 #include "scenes.h"

@@ -6,6 +6,7 @@
 
 #include <deal.II/grid/grid_out.h>
 
+#include <softface/io/mesh_reader.h>
 #include <softface/models/linear_fem.h>
 
 #include "scenes.h"

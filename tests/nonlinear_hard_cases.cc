@@ -9,7 +9,7 @@
 
 #include <deal.II/grid/grid_tools.h>
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/nonlinear_fem.h>
 
 #include <sstream>

@@ -9,8 +9,8 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/lac/full_matrix.h>
 
-#include <softface/linear_elasticity.h>
-#include <softface/scene.h>
+#include <softface/fe/linear_elasticity.h>
+#include <softface/core/scene.h>
 
 #include "tests.h"
 

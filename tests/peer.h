@@ -5,7 +5,7 @@
 
 #include <deal.II/base/utilities.h>
 
-#include <softface/scene.h>
+#include <softface/core/scene.h>
 
 #include <fstream>
 #include <map>

@@ -9,9 +9,9 @@
 
 #include <softface/models/interface.h>
 #include <softface/models/linear_fem.h>
-#include <softface/planning.h>
-#include <softface/scene.h>
-#include <softface/simulator.h>
+#include <softface/core/planning.h>
+#include <softface/core/scene.h>
+#include <softface/simulator/simulator.h>
 
 #include "peer.h"
 #include "scenes.h"

@@ -5,8 +5,8 @@
 // more, so the comparison tells large-deformation from linear.
 
 #include <softface/models/nonlinear_fem.h>
-#include <softface/planning.h>
-#include <softface/simulator.h>
+#include <softface/core/planning.h>
+#include <softface/simulator/simulator.h>
 
 #include "peer.h"
 #include "scenes.h"

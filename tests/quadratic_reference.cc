@@ -13,8 +13,8 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <softface/models/nonlinear_fem.h>
-#include <softface/error.h>
-#include <softface/point_evaluation.h>
+#include <softface/core/error.h>
+#include <softface/fe/point_evaluation.h>
 
 #include "scenes.h"
 #include "tests.h"

@@ -7,7 +7,7 @@
 
 #include <deal.II/base/utilities.h>
 
-#include <softface/simulator.h>
+#include <softface/simulator/simulator.h>
 
 #include "tests.h"
 

@@ -3,9 +3,9 @@
 
 // Scenes that several tests share, built in code.
 
-#include <softface/mesh.h>
-#include <softface/planning.h>
-#include <softface/scene.h>
+#include <softface/core/mesh.h>
+#include <softface/core/planning.h>
+#include <softface/core/scene.h>
 
 namespace softface_tests
 {

@@ -9,7 +9,8 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include "tests.h"
-#include <softface/mesh.h>
+#include <softface/core/mesh.h>
+#include <softface/io/mesh_reader.h>
 
 using namespace softface;
 

@@ -1,6 +1,6 @@
 #include <deal.II/base/utilities.h>
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/interface.h>
 
 #include <map>

@@ -3,9 +3,9 @@
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/solver_gmres.h>
 
-#include <softface/elasticity_amg.h>
-#include <softface/error.h>
-#include <softface/linear_elasticity.h>
+#include <softface/fe/elasticity_amg.h>
+#include <softface/core/error.h>
+#include <softface/fe/linear_elasticity.h>
 #include <softface/models/linear_fem.h>
 
 

@@ -1,9 +1,9 @@
 #include <deal.II/base/timer.h>
 
-#include <softface/active_set.h>
-#include <softface/error.h>
-#include <softface/linear_elasticity.h>
-#include <softface/mesh.h>
+#include <softface/models/active_set.h>
+#include <softface/core/error.h>
+#include <softface/fe/linear_elasticity.h>
+#include <softface/core/mesh.h>
 #include <softface/models/mass_spring.h>
 
 #include <algorithm>

@@ -1,8 +1,8 @@
 #include <deal.II/base/timer.h>
 
-#include <softface/active_set.h>
-#include <softface/error.h>
-#include <softface/linear_elasticity.h>
+#include <softface/models/active_set.h>
+#include <softface/core/error.h>
+#include <softface/fe/linear_elasticity.h>
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_tensor.h>
 

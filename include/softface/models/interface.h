@@ -4,7 +4,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>
 
-#include <softface/scene.h>
+#include <softface/core/scene.h>
 
 #include <functional>
 #include <ostream>

@@ -8,7 +8,7 @@
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
 #include <softface/models/interface.h>
-#include <softface/sparse_cholesky.h>
+#include <softface/fe/sparse_cholesky.h>
 
 #include <memory>
 

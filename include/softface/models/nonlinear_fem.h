@@ -9,9 +9,9 @@
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
-#include <softface/hyperelasticity.h>
+#include <softface/fe/hyperelasticity.h>
 #include <softface/models/interface.h>
-#include <softface/sparse_cholesky.h>
+#include <softface/fe/sparse_cholesky.h>
 
 #include <array>
 #include <memory>

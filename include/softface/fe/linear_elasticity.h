@@ -6,7 +6,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
-#include <softface/scene.h>
+#include <softface/core/scene.h>
 
 #include <array>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include <softface/elasticity_amg.h>
+#include <softface/fe/elasticity_amg.h>
 
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>

@@ -1,8 +1,8 @@
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
 
-#include <softface/error.h>
-#include <softface/vtu_reader.h>
+#include <softface/core/error.h>
+#include <softface/io/vtu_reader.h>
 
 #include <zlib.h>
 

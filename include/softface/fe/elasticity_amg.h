@@ -4,7 +4,7 @@
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 
-#include <softface/scene.h>
+#include <softface/core/scene.h>
 
 namespace softface
 {

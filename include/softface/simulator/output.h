@@ -4,7 +4,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <softface/models/interface.h>
-#include <softface/scene.h>
+#include <softface/core/scene.h>
 
 #include <ostream>
 #include <string>

@@ -1,4 +1,4 @@
-#include <softface/threads.h>
+#include <softface/core/threads.h>
 
 #include <cstdlib>
 

@@ -1,13 +1,14 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 #include <softface/models/interface.h>
-#include <softface/output.h>
-#include <softface/planning.h>
-#include <softface/point_evaluation.h>
-#include <softface/scene.h>
-#include <softface/simulator.h>
+#include <softface/simulator/output.h>
+#include <softface/core/planning.h>
+#include <softface/fe/point_evaluation.h>
+#include <softface/io/points_csv.h>
+#include <softface/core/scene.h>
+#include <softface/simulator/simulator.h>
 
 #include <filesystem>
 #include <fstream>

@@ -1,8 +1,8 @@
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/physics/transformations.h>
 
-#include <softface/error.h>
-#include <softface/rigid_motion.h>
+#include <softface/core/error.h>
+#include <softface/core/rigid_motion.h>
 
 #include <cmath>
 

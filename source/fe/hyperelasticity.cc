@@ -2,8 +2,8 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
 
-#include <softface/error.h>
-#include <softface/hyperelasticity.h>
+#include <softface/core/error.h>
+#include <softface/fe/hyperelasticity.h>
 
 #include <algorithm>
 #include <numeric>

@@ -1,7 +1,7 @@
 #include <deal.II/base/utilities.h>
 
-#include <softface/error.h>
-#include <softface/planning.h>
+#include <softface/core/error.h>
+#include <softface/core/planning.h>
 
 namespace softface
 {

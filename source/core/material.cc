@@ -1,5 +1,5 @@
-#include <softface/error.h>
-#include <softface/material.h>
+#include <softface/core/error.h>
+#include <softface/core/material.h>
 
 namespace softface
 {

@@ -7,8 +7,8 @@
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
 
-#include <softface/material.h>
-#include <softface/mesh.h>
+#include <softface/core/material.h>
+#include <softface/core/mesh.h>
 
 #include <array>
 #include <set>

@@ -4,8 +4,9 @@
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
-#include <softface/error.h>
-#include <softface/scene.h>
+#include <softface/core/error.h>
+#include <softface/io/mesh_reader.h>
+#include <softface/core/scene.h>
 
 #include <numeric>
 #include <sstream>

@@ -1,6 +1,6 @@
 #include <deal.II/base/exceptions.h>
 
-#include <softface/error.h>
+#include <softface/core/error.h>
 
 #include <sstream>
 

@@ -54,15 +54,6 @@ namespace softface
                   Triangulation<3>     &triangulation);
 
     /**
-     * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
-     * become material ids, physical surfaces boundary ids), legacy VTK .vtk
-     * (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
-     * serialised .vtu too). Errors name the file.
-     */
-    void
-    read_file(const std::string &filename, Triangulation<3> &triangulation);
-
-    /**
      * Throw a clear error unless every cell is a positively oriented,
      * non-degenerate tetrahedron. @p source names the mesh in the message.
      */

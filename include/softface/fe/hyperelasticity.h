@@ -8,7 +8,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
-#include <softface/linear_elasticity.h>
+#include <softface/fe/linear_elasticity.h>
 
 #include <array>
 #include <string>

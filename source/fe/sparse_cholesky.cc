@@ -1,5 +1,5 @@
-#include <softface/error.h>
-#include <softface/sparse_cholesky.h>
+#include <softface/core/error.h>
+#include <softface/fe/sparse_cholesky.h>
 
 #include <suitesparse/cholmod.h>
 

@@ -2,8 +2,8 @@
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/numerics/data_out.h>
 
-#include <softface/error.h>
-#include <softface/output.h>
+#include <softface/core/error.h>
+#include <softface/simulator/output.h>
 
 #include <algorithm>
 #include <cmath>

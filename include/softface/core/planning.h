@@ -4,8 +4,8 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>
 
-#include <softface/rigid_motion.h>
-#include <softface/scene.h>
+#include <softface/core/rigid_motion.h>
+#include <softface/core/scene.h>
 
 #include <map>
 #include <string>

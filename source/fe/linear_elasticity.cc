@@ -4,7 +4,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 #include <deal.II/lac/full_matrix.h>
 
-#include <softface/linear_elasticity.h>
+#include <softface/fe/linear_elasticity.h>
 
 #include <algorithm>
 #include <numeric>

@@ -1,11 +1,9 @@
-#include <deal.II/grid/grid_in.h>
 #include <deal.II/grid/reference_cell.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
-#include <softface/error.h>
-#include <softface/mesh.h>
-#include <softface/vtu_reader.h>
+#include <softface/core/error.h>
+#include <softface/core/mesh.h>
 
 #include <algorithm>
 #include <cmath>
@@ -238,58 +236,6 @@ namespace softface
         for (const auto &face : cell->face_iterators())
           if (face->at_boundary())
             face->set_boundary_id(cube_outer_face);
-    }
-
-    void
-    read_file(const std::string &filename, Triangulation<3> &triangulation)
-    {
-      std::ifstream in(filename);
-      if (!in)
-        throw Error("Cannot open mesh file '" + filename +
-                    "' (Scene/Mesh file is relative to the parameter "
-                    "file's folder).");
-
-      const auto        dot = filename.rfind('.');
-      const std::string extension =
-        (dot == std::string::npos) ? "" : filename.substr(dot + 1);
-
-      triangulation.clear();
-      GridIn<3> grid_in(triangulation);
-      try
-        {
-          if (extension == "msh")
-            grid_in.read_msh(in);
-          else if (extension == "vtk")
-            grid_in.read_vtk(in);
-          else if (extension == "vtu")
-            {
-              // deal.II reads only its own serialised .vtu; everything else
-              // (ParaView, VTK, meshio) goes through softface's reader.
-              std::ostringstream head;
-              head << in.rdbuf();
-              if (head.str().find("<dealiiData") != std::string::npos)
-                {
-                  std::istringstream again(head.str());
-                  grid_in.read_vtu(again);
-                }
-              else
-                read_vtu(filename, triangulation);
-            }
-          else
-            throw Error("Mesh file '" + filename + "': unknown format '." +
-                        extension + "' (softface reads .msh, .vtk and .vtu).");
-        }
-      catch (const Error &)
-        {
-          throw;
-        }
-      catch (const std::exception &e)
-        {
-          throw Error("Cannot read mesh file '" + filename +
-                      "': " + error_message(e));
-        }
-      if (triangulation.n_active_cells() == 0)
-        throw Error("Mesh file '" + filename + "' holds no cells.");
     }
 
     void

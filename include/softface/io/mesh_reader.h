@@ -1,0 +1,25 @@
+#ifndef softface_io_mesh_reader_h
+#define softface_io_mesh_reader_h
+
+#include <deal.II/grid/tria.h>
+
+#include <string>
+
+namespace softface
+{
+  using namespace dealii;
+
+  namespace Mesh
+  {
+    /**
+     * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
+     * become material ids, physical surfaces boundary ids), legacy VTK .vtk
+     * (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
+     * serialised .vtu too). Errors name the file.
+     */
+    void
+    read_file(const std::string &filename, Triangulation<3> &triangulation);
+  } // namespace Mesh
+} // namespace softface
+
+#endif

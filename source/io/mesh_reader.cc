@@ -1,0 +1,66 @@
+#include <deal.II/grid/grid_in.h>
+
+#include <softface/core/error.h>
+#include <softface/io/mesh_reader.h>
+#include <softface/io/vtu_reader.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace softface
+{
+  namespace Mesh
+  {
+    void
+    read_file(const std::string &filename, Triangulation<3> &triangulation)
+    {
+      std::ifstream in(filename);
+      if (!in)
+        throw Error("Cannot open mesh file '" + filename +
+                    "' (Scene/Mesh file is relative to the parameter "
+                    "file's folder).");
+
+      const auto        dot = filename.rfind('.');
+      const std::string extension =
+        (dot == std::string::npos) ? "" : filename.substr(dot + 1);
+
+      triangulation.clear();
+      GridIn<3> grid_in(triangulation);
+      try
+        {
+          if (extension == "msh")
+            grid_in.read_msh(in);
+          else if (extension == "vtk")
+            grid_in.read_vtk(in);
+          else if (extension == "vtu")
+            {
+              // deal.II reads only its own serialised .vtu; everything else
+              // (ParaView, VTK, meshio) goes through softface's reader.
+              std::ostringstream head;
+              head << in.rdbuf();
+              if (head.str().find("<dealiiData") != std::string::npos)
+                {
+                  std::istringstream again(head.str());
+                  grid_in.read_vtu(again);
+                }
+              else
+                read_vtu(filename, triangulation);
+            }
+          else
+            throw Error("Mesh file '" + filename + "': unknown format '." +
+                        extension + "' (softface reads .msh, .vtk and .vtu).");
+        }
+      catch (const Error &)
+        {
+          throw;
+        }
+      catch (const std::exception &e)
+        {
+          throw Error("Cannot read mesh file '" + filename +
+                      "': " + error_message(e));
+        }
+      if (triangulation.n_active_cells() == 0)
+        throw Error("Mesh file '" + filename + "' holds no cells.");
+    }
+  } // namespace Mesh
+} // namespace softface
