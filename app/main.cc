@@ -4,9 +4,9 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/error.h>
+#include <softface/core/threads.h>
 #include <softface/models/interface.h>
 #include <softface/simulator/simulator.h>
-#include <softface/core/threads.h>
 
 #include <iostream>
 #include <string>
@@ -42,7 +42,8 @@ main(int argc, char **argv)
           softface::Simulator::print_default_parameters(std::cout);
           return 0;
         }
-      return softface::Simulator::run(argument);
+      softface::Simulator simulator;
+      return simulator.run(argument);
     }
   catch (const std::exception &e)
     {

@@ -12,6 +12,7 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/mesh.h>
+#include <softface/core/tetrahedron.h>
 
 #include "tests.h"
 
@@ -42,21 +43,19 @@ SOFTFACE_TEST(cube_mesh)
 
       const double L = 80., a = 35., b = 45.;
       double       volume = 0., inner_volume = 0., boundary_area = 0.;
-      bool         inner_vertices_in_box = true, boundary_ids_ok = true;
+      unsigned int inner_vertices_outside = 0, faces_not_outer = 0;
       for (const auto &cell : tria.active_cell_iterators())
         {
-          const double v = Mesh::signed_volume({{cell->vertex(0),
-                                                 cell->vertex(1),
-                                                 cell->vertex(2),
-                                                 cell->vertex(3)}});
+          const double v =
+            Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
           volume += v;
           if (cell->material_id() == Mesh::cube_inner_id)
             {
               inner_volume += v;
               for (const unsigned int i : cell->vertex_indices())
                 for (unsigned int d = 0; d < 3; ++d)
-                  inner_vertices_in_box &= (cell->vertex(i)[d] >= a - 1e-12 &&
-                                            cell->vertex(i)[d] <= b + 1e-12);
+                  inner_vertices_outside += !(cell->vertex(i)[d] >= a - 1e-12 &&
+                                              cell->vertex(i)[d] <= b + 1e-12);
             }
           for (const auto &face : cell->face_iterators())
             if (face->at_boundary())
@@ -65,24 +64,36 @@ SOFTFACE_TEST(cube_mesh)
                   0.5 * cross_product_3d(face->vertex(1) - face->vertex(0),
                                          face->vertex(2) - face->vertex(0))
                           .norm();
-                boundary_ids_ok &=
-                  (face->boundary_id() == Mesh::cube_outer_face);
+                faces_not_outer +=
+                  (face->boundary_id() != Mesh::cube_outer_face);
               }
         }
       deallog << "target " << target << ", grading " << grading
-              << (symmetric ? ", mirror-symmetric" : "") << std::endl;
-      softface_tests::check(std::abs(double(tria.n_active_cells()) - target) <
-                              0.25 * target,
-                            "tetrahedron count within 25% of target");
-      softface_tests::check(std::abs(volume - L * L * L) < 1e-9 * L * L * L,
-                            "volume is L^3");
-      softface_tests::check(std::abs(boundary_area - 6 * L * L) < 1e-9 * L * L,
-                            "boundary area is 6 L^2 (conforming)");
-      softface_tests::check(std::abs(inner_volume - 1000.) < 1e-9,
-                            "inner material volume is s^3");
-      softface_tests::check(inner_vertices_in_box,
-                            "inner cells lie in the inner box");
-      softface_tests::check(boundary_ids_ok, "outer faces carry id 1");
+              << (symmetric ? ", mirror-symmetric" : "") << ": "
+              << tria.n_active_cells() << " tetrahedra, " << tria.n_vertices()
+              << " vertices" << std::endl;
+      softface_tests::check_below(
+        "|tetrahedra / target - 1|",
+        std::abs(double(tria.n_active_cells()) / target - 1.),
+        0.25,
+        3);
+      softface_tests::check_below("|volume - L^3| / L^3",
+                                  std::abs(volume - L * L * L) / (L * L * L),
+                                  1e-9);
+      softface_tests::check_below(
+        "|boundary area - 6 L^2| / 6 L^2 (conforming)",
+        std::abs(boundary_area - 6 * L * L) / (6 * L * L),
+        1e-9);
+      softface_tests::check_below("|inner material volume - s^3| / s^3",
+                                  std::abs(inner_volume - 1000.) / 1000.,
+                                  1e-9);
+      softface_tests::check_equal("inner cells' vertex coordinates outside "
+                                  "the inner box",
+                                  inner_vertices_outside,
+                                  0);
+      softface_tests::check_equal("outer faces without id 1",
+                                  faces_not_outer,
+                                  0);
 
       // Grid lines along x: the spacing next to the inner face x = a against
       // the spacing next to the outer face x = 0.
@@ -92,9 +103,12 @@ SOFTFACE_TEST(cube_mesh)
       const std::vector<double> x(lines.begin(), lines.end());
       const auto   at_a  = std::lower_bound(x.begin(), x.end(), a - 1e-9);
       const double ratio = (x[1] - x[0]) / (*at_a - *(at_a - 1));
-      softface_tests::check(*at_a == a && std::abs(ratio / grading - 1.) < 0.3,
-                            "spacing at the outer face / at the inner face "
-                            "is the grading within 30%");
+      softface_tests::check_equal("x = 35 is a grid plane", *at_a == a, 1);
+      softface_tests::check_below(
+        "|spacing at the outer face / at the inner face / grading - 1|",
+        std::abs(ratio / grading - 1.),
+        0.3,
+        3);
 
       if (symmetric)
         {
@@ -108,16 +122,18 @@ SOFTFACE_TEST(cube_mesh)
           std::set<std::array<long, 3>> centroids;
           for (const auto &cell : tria.active_cell_iterators())
             centroids.insert(key(cell->center()));
-          bool mirrored = true;
+          unsigned int not_mirrored = 0;
           for (unsigned int d = 0; d < 3; ++d)
             for (const auto &cell : tria.active_cell_iterators())
               {
                 Point<3> image = cell->center();
                 image[d]       = L - image[d];
-                mirrored &= (centroids.count(key(image)) == 1);
+                not_mirrored += (centroids.count(key(image)) != 1);
               }
-          softface_tests::check(mirrored,
-                                "each reflection maps the mesh onto itself");
+          softface_tests::check_equal(
+            "cell centroids that a reflection maps onto no centroid",
+            not_mirrored,
+            0);
         }
     }
 }

@@ -5,7 +5,11 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <softface/core/planning.h>
 #include <softface/core/scene.h>
+#include <softface/simulator/simulator.h>
+
+#include "tests.h"
 
 #include <fstream>
 #include <map>
@@ -77,6 +81,26 @@ namespace softface_tests
     AssertThrow(n_matched == scene.n_vertices(),
                 ExcMessage("the peer file does not cover every vertex"));
     return u;
+  }
+  /// The shared gmsh cube scene and its planning from
+  /// peer_calculix_cube30k.prm, through the whole parameter path.
+  inline Vector<double>
+  read_peer_scene(ParameterHandler &prm, Scene &scene)
+  {
+    Simulator::read_parameters(source_file("peer_calculix_cube30k.prm"), prm);
+    scene.parse_parameters(prm, source_file(""));
+    Planning planning;
+    planning.parse_parameters(prm, scene);
+    return planning.prescribed_displacement(scene);
+  }
+
+  /// CalculiX's linear or NLGEOM nodal displacements on that scene.
+  inline Vector<double>
+  calculix_displacements(const Scene &scene, const std::string &analysis)
+  {
+    return read_peer(scene,
+                     source_file("data/cube30k/calculix_" + analysis +
+                                 "_displacements.csv"));
   }
 } // namespace softface_tests
 

@@ -3,9 +3,13 @@
 
 // Scenes that several tests share, built in code.
 
+#include <deal.II/grid/grid_tools.h>
+
 #include <softface/core/mesh.h>
 #include <softface/core/planning.h>
 #include <softface/core/scene.h>
+
+#include <cmath>
 
 namespace softface_tests
 {
@@ -22,6 +26,38 @@ namespace softface_tests
     scene.mesh_description = "generated cube";
     scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}},
                               {"bone", {Mesh::cube_inner_id}, {}}};
+    scene.setup();
+  }
+
+  /**
+   * The seed's cube with its interior vertices moved by a smooth field that
+   * vanishes on the outer faces, so that no tetrahedron is a right-angled
+   * Kuhn tetrahedron and element shapes vary. With @p with_bone the inner
+   * cube is segment 1 ("bone") besides the held faces (segment 0), without
+   * it the faces are the only segment ("boundary").
+   */
+  inline void
+  make_distorted_cube_scene(Scene             &scene,
+                            const unsigned int target_n_tetrahedra,
+                            const bool         with_bone)
+  {
+    Mesh::CubeParameters cube;
+    cube.target_n_tetrahedra = target_n_tetrahedra;
+    Mesh::generate_cube(cube, scene.triangulation);
+    GridTools::transform(
+      [](const Point<3> &x) {
+        const double s = std::sin(M_PI * x[0] / 80) *
+                         std::sin(M_PI * x[1] / 80) *
+                         std::sin(M_PI * x[2] / 80);
+        return x + Point<3>(2.5 * s, -1.5 * s * std::cos(x[2]), 2. * s);
+      },
+      scene.triangulation);
+    scene.mesh_description = "distorted cube";
+    if (with_bone)
+      scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}},
+                        {"bone", {Mesh::cube_inner_id}, {}}};
+    else
+      scene.segments = {{"boundary", {}, {Mesh::cube_outer_face}}};
     scene.setup();
   }
 

@@ -4,7 +4,12 @@
 // A small tests.h of our own (deal.II 9.4 does not install one). Every
 // tests/<name>.cc defines one test with SOFTFACE_TEST(name); the driver in
 // tests/main.cc runs it with deallog going to stdout, and ctest compares that
-// with tests/<name>.output.
+// with tests/<name>.output by numdiff (absolute 1e-10, relative 1e-8).
+//
+// Tests print the quantities they check, at a precision that is stable from
+// run to run (deal.II style), so that numdiff sees any drift; a quantity
+// that must stay within a bound is printed with the bound and also ends the
+// test with an error when it leaves it.
 
 #include <deal.II/base/logstream.h>
 
@@ -21,23 +26,62 @@ namespace softface_tests
   bool
   register_test(const std::string &name, void (*function)());
 
-  /// A failed check ends the test with a non-zero exit, naming the check.
-  inline void
-  check(const bool condition, const std::string &what)
-  {
-    deallog << what << ": " << (condition ? "yes" : "NO") << std::endl;
-    if (!condition)
-      throw std::runtime_error("check failed: " + what);
-  }
-
-  /// A number rounded to @p digits significant digits (stable across runs
-  /// as long as the value is accurate to more than that).
+  /// A number rounded to @p digits significant digits.
   inline std::string
-  rounded(const double value, const unsigned int digits = 4)
+  rounded(const double value, const unsigned int digits = 3)
   {
     std::ostringstream s;
     s << std::setprecision(digits) << (std::abs(value) < 1e-300 ? 0. : value);
     return s.str();
+  }
+
+  /// "what: value".
+  inline void
+  print(const std::string &what,
+        const double       value,
+        const unsigned int digits = 3)
+  {
+    deallog << what << ": " << rounded(value, digits) << std::endl;
+  }
+
+  /// "what: value (<= bound)"; the test fails if value > bound or is NaN.
+  inline void
+  check_below(const std::string &what,
+              const double       value,
+              const double       bound,
+              const unsigned int digits = 2)
+  {
+    deallog << what << ": " << rounded(value, digits)
+            << " (<= " << rounded(bound, 3) << ")" << std::endl;
+    if (!(value <= bound))
+      throw std::runtime_error(what + " = " + rounded(value, 6) + " exceeds " +
+                               rounded(bound, 6));
+  }
+
+  /// "what: value (>= bound)"; the test fails if value < bound or is NaN.
+  inline void
+  check_above(const std::string &what,
+              const double       value,
+              const double       bound,
+              const unsigned int digits = 3)
+  {
+    deallog << what << ": " << rounded(value, digits)
+            << " (>= " << rounded(bound, 3) << ")" << std::endl;
+    if (!(value >= bound))
+      throw std::runtime_error(what + " = " + rounded(value, 6) + " is below " +
+                               rounded(bound, 6));
+  }
+
+  /// "what: value"; the test fails unless value == expected (counts).
+  inline void
+  check_equal(const std::string &what,
+              const long long    value,
+              const long long    expected)
+  {
+    deallog << what << ": " << value << std::endl;
+    if (value != expected)
+      throw std::runtime_error(what + " = " + std::to_string(value) +
+                               ", expected " + std::to_string(expected));
   }
 
   /// A file in the tests' source folder (tests run in the build folder, so

@@ -54,4 +54,10 @@ namespace softface
   {
     return youngs_modulus() / (2. * (1. + poissons_ratio));
   }
+
+  Lame
+  Material::lame() const
+  {
+    return {lambda(), mu()};
+  }
 } // namespace softface

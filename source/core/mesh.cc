@@ -4,6 +4,7 @@
 
 #include <softface/core/error.h>
 #include <softface/core/mesh.h>
+#include <softface/core/tetrahedron.h>
 
 #include <algorithm>
 #include <cmath>
@@ -76,12 +77,6 @@ namespace softface
                     std::to_string(inner_size) +
                     " mm) must be positive and smaller than the edge length (" +
                     std::to_string(edge_length) + " mm).");
-    }
-
-    double
-    signed_volume(const std::array<Point<3>, 4> &x)
-    {
-      return cross_product_3d(x[1] - x[0], x[2] - x[0]) * (x[3] - x[0]) / 6.;
     }
 
     void
@@ -223,7 +218,7 @@ namespace softface
                      vertices[cell.vertices[1]],
                      vertices[cell.vertices[2]],
                      vertices[cell.vertices[3]]}};
-                  if (signed_volume(x) < 0)
+                  if (Tetrahedron::signed_volume(x) < 0)
                     std::swap(cell.vertices[1], cell.vertices[2]);
                   cell.material_id = inner ? cube_inner_id : cube_tissue_id;
                   cells.push_back(cell);
@@ -266,7 +261,7 @@ namespace softface
               for (unsigned int w = 0; w < v; ++w)
                 longest_edge = std::max(longest_edge, x[v].distance(x[w]));
             }
-          const double volume = signed_volume(x);
+          const double volume = Tetrahedron::signed_volume(x);
           // A volume this small against the cube of the longest edge is a
           // flat tetrahedron whose stiffness would be singular.
           if (std::abs(volume) <= 1e-10 * std::pow(longest_edge, 3))

@@ -5,8 +5,8 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
-#include <softface/io/mesh_reader.h>
 #include <softface/core/scene.h>
+#include <softface/io/mesh_reader.h>
 
 #include <numeric>
 #include <sstream>

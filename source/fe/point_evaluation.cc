@@ -6,31 +6,19 @@
 #include <deal.II/numerics/rtree.h>
 
 #include <softface/core/error.h>
+#include <softface/core/tetrahedron.h>
 #include <softface/fe/point_evaluation.h>
 
 #include <algorithm>
 #include <fstream>
-#include <limits>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace softface
 {
   namespace
   {
-    // Barycentric coordinates 1..3 of p in an affine tetrahedron are its
-    // reference coordinates (deal.II's reference vertices 0, e_x, e_y, e_z).
-    Point<3>
-    reference_coordinates(const Triangulation<3>::active_cell_iterator &cell,
-                          const Point<3>                               &p)
-    {
-      Tensor<2, 3> J;
-      for (unsigned int k = 0; k < 3; ++k)
-        for (unsigned int d = 0; d < 3; ++d)
-          J[d][k] = cell->vertex(k + 1)[d] - cell->vertex(0)[d];
-      return Point<3>(invert(J) * (p - cell->vertex(0)));
-    }
-
     double
     smallest_barycentric(const Point<3> &xi)
     {
@@ -62,13 +50,13 @@ namespace softface
         candidates.clear();
         tree.query(boost::geometry::index::intersects(points[i]),
                    std::back_inserter(candidates));
-        double   best = -std::numeric_limits<double>::max();
+        double   best      = -std::numeric_limits<double>::max();
         unsigned best_cell = numbers::invalid_unsigned_int;
         Point<3> best_xi;
         for (const auto &candidate : candidates)
           {
-            const Point<3> xi =
-              reference_coordinates(all_cells[candidate.second], points[i]);
+            const Point<3> xi = Tetrahedron::reference_coordinates(
+              Tetrahedron::vertices(all_cells[candidate.second]), points[i]);
             if (smallest_barycentric(xi) > best)
               {
                 best      = smallest_barycentric(xi);

@@ -50,7 +50,6 @@ namespace softface
     out << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
     for (unsigned int i = 0; i < points.size(); ++i)
       out << points[i][0] << ',' << points[i][1] << ',' << points[i][2] << ','
-          << values[i][0] << ',' << values[i][1] << ',' << values[i][2]
-          << '\n';
+          << values[i][0] << ',' << values[i][1] << ',' << values[i][2] << '\n';
   }
 } // namespace softface

@@ -1,9 +1,19 @@
+// The model plugin layer (models): the interface every model implements, how
+// setup() and solve() are timed and reported the same way for all, and the
+// registry that the one-line SOFTFACE_REGISTER_MODEL fills.
+
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
 #include <softface/models/interface.h>
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
 #include <map>
+#include <sstream>
 
 namespace softface
 {
@@ -21,23 +31,108 @@ namespace softface
       }
     } // namespace
 
-    bool
-    internal::register_model(const std::string &name, Registration registration)
+    std::string
+    Detail::formatted(const unsigned int digits) const
     {
-      Assert(registry().count(name) == 0,
-             ExcMessage("Model '" + name + "' is registered twice."));
-      registry()[name] = std::move(registration);
-      return true;
+      if (!std::isfinite(value))
+        return text;
+      std::string number;
+      if (value == std::round(value) && std::abs(value) < 1e15)
+        number = std::to_string(static_cast<long long>(value));
+      else if (digits == 0)
+        {
+          char       buffer[32];
+          const auto end = std::to_chars(buffer, buffer + 32, value).ptr;
+          number         = std::string(buffer, end);
+        }
+      else
+        {
+          std::ostringstream s;
+          s << std::setprecision(digits) << value;
+          number = s.str();
+        }
+      return unit.empty() ? number : number + ' ' + unit;
     }
+
+    Interface::Interface()
+        : timer_output(std::cout, TimerOutput::never, TimerOutput::wall_times)
+    {}
 
     void
     Interface::parse_parameters(ParameterHandler &)
     {}
 
-    std::pair<const DoFHandler<3> *, const Vector<double> *>
-    Interface::displacement_field() const
+    void
+    Interface::setup(const Scene &scene)
     {
-      return {nullptr, nullptr};
+      stats = Statistics();
+      setup_phases.clear();
+      setup_details.clear();
+      setup_warnings.clear();
+      timer_output.reset();
+      phase_order.clear();
+      diagnostic_phases.clear();
+      Timer wall;
+      do_setup(scene);
+      double diagnostic_time = 0.;
+      setup_phases           = collect_phases(diagnostic_time);
+      stats.setup_time       = wall.wall_time() - diagnostic_time;
+      setup_details          = stats.details;
+      setup_warnings         = stats.warnings;
+      stats.phases           = setup_phases;
+    }
+
+    void
+    Interface::solve(const Vector<double> &prescribed,
+                     Vector<double>       &displacement)
+    {
+      const double       setup_time = stats.setup_time;
+      const unsigned int n_dofs     = stats.n_dofs;
+      stats                         = Statistics();
+      stats.setup_time              = setup_time;
+      stats.n_dofs                  = n_dofs;
+      stats.details                 = setup_details;
+      stats.warnings                = setup_warnings;
+      timer_output.reset();
+      phase_order.clear();
+      diagnostic_phases.clear();
+      Timer wall;
+      do_solve(prescribed, displacement);
+      double     diagnostic_time = 0.;
+      const auto solve_phases    = collect_phases(diagnostic_time);
+      stats.solve_time           = wall.wall_time() - diagnostic_time;
+      stats.phases               = setup_phases;
+      stats.phases.insert(stats.phases.end(),
+                          solve_phases.begin(),
+                          solve_phases.end());
+    }
+
+    std::vector<std::pair<std::string, double>>
+    Interface::collect_phases(double &diagnostic_time)
+    {
+      const auto seconds =
+        timer_output.get_summary_data(TimerOutput::total_wall_time);
+      std::vector<std::string> names = phase_order;
+      for (const auto &entry : seconds)
+        if (std::find(names.begin(), names.end(), entry.first) == names.end())
+          names.push_back(entry.first);
+      std::vector<std::pair<std::string, double>> phases;
+      diagnostic_time = 0.;
+      for (const auto &name : names)
+        if (seconds.count(name))
+          {
+            const bool diagnostic = std::find(diagnostic_phases.begin(),
+                                              diagnostic_phases.end(),
+                                              name) != diagnostic_phases.end();
+            if (diagnostic)
+              diagnostic_time += seconds.at(name);
+            phases.emplace_back(diagnostic ? name + " (diagnostic)" : name,
+                                seconds.at(name));
+          }
+      timer_output.reset();
+      phase_order.clear();
+      diagnostic_phases.clear();
+      return phases;
     }
 
     const Statistics &
@@ -46,10 +141,91 @@ namespace softface
       return stats;
     }
 
+    std::pair<const DoFHandler<3> *, const Vector<double> *>
+    Interface::displacement_field() const
+    {
+      return {nullptr, nullptr};
+    }
+
     void
     Interface::set_progress_stream(std::ostream *stream)
     {
       progress = stream;
+    }
+
+    TimerOutput::Scope
+    Interface::phase(const std::string &name, const bool diagnostic)
+    {
+      if (std::find(phase_order.begin(), phase_order.end(), name) ==
+          phase_order.end())
+        phase_order.push_back(name);
+      if (diagnostic)
+        diagnostic_phases.push_back(name);
+      return TimerOutput::Scope(timer_output, name);
+    }
+
+    TimerOutput &
+    Interface::timer()
+    {
+      return timer_output;
+    }
+
+    void
+    Interface::set_iterations(const unsigned int iterations)
+    {
+      stats.iterations = iterations;
+    }
+
+    void
+    Interface::set_residual(const double relative_residual)
+    {
+      stats.residual = relative_residual;
+    }
+
+    void
+    Interface::set_n_dofs(const unsigned int n_dofs)
+    {
+      stats.n_dofs = n_dofs;
+    }
+
+    void
+    Interface::add_detail(const std::string &name,
+                          const double       value,
+                          const std::string &unit,
+                          const bool         depends_on_timing)
+    {
+      Detail d;
+      d.name              = name;
+      d.value             = value;
+      d.unit              = unit;
+      d.depends_on_timing = depends_on_timing;
+      stats.details.push_back(d);
+    }
+
+    void
+    Interface::add_detail(const std::string &name, const std::string &text)
+    {
+      Detail d;
+      d.name = name;
+      d.text = text;
+      stats.details.push_back(d);
+    }
+
+    void
+    Interface::warn(const std::string &message)
+    {
+      stats.warnings.push_back(message);
+    }
+
+    bool
+    internal::register_model(const std::string &name, Registration registration)
+    {
+      // A second registration under one name would silently replace the
+      // first; it is a programming error, reported in every build.
+      if (registry().count(name) != 0)
+        throw Error("Model '" + name + "' is registered twice.");
+      registry()[name] = std::move(registration);
+      return true;
     }
 
     std::vector<std::string>
@@ -64,17 +240,19 @@ namespace softface
     void
     declare_parameters(ParameterHandler &prm)
     {
-      std::string selection;
+      std::string names;
       for (const std::string &name : registered_names())
-        selection += (selection.empty() ? "" : "|") + name;
+        names += (names.empty() ? "" : ", ") + name;
 
       prm.enter_subsection("Models");
+      // Names are checked by selected_names(), whose message does not list
+      // every model (softface --help does).
       prm.declare_entry("Models",
                         "linear fem",
-                        Patterns::MultipleSelection(selection),
+                        Patterns::List(Patterns::Anything(), 1),
                         "The soft-tissue models to run on the scene, side by "
                         "side on the same mesh and join points. Available: " +
-                          selection + ".");
+                          names + ".");
       for (const auto &[name, registration] : registry())
         {
           prm.enter_subsection(name);
@@ -90,6 +268,15 @@ namespace softface
       prm.enter_subsection("Models");
       const auto names = Utilities::split_string_list(prm.get("Models"));
       prm.leave_subsection();
+      for (unsigned int i = 0; i < names.size(); ++i)
+        {
+          if (registry().count(names[i]) == 0)
+            throw Error("Models/Models: '" + names[i] +
+                        "' is not a model ('softface --help' lists them).");
+          if (std::find(names.begin(), names.begin() + i, names[i]) !=
+              names.begin() + i)
+            throw Error("Models/Models: '" + names[i] + "' is listed twice.");
+        }
       return names;
     }
 

@@ -1,14 +1,16 @@
-#include <deal.II/base/timer.h>
+// The mass spring model (models, seed 2.2): a spring per edge with Gelder's
+// constants, nonlinear in the positions, and its static equilibrium by local
+// steepest descent with the seed's dynamic cut-out.
 
-#include <softface/models/active_set.h>
 #include <softface/core/error.h>
-#include <softface/fe/linear_elasticity.h>
-#include <softface/core/mesh.h>
+#include <softface/core/tetrahedron.h>
+#include <softface/models/active_set.h>
 #include <softface/models/mass_spring.h>
 
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace softface
@@ -68,76 +70,54 @@ namespace softface
     }
 
     void
-    MassSpring::setup(const Scene &scene_in)
+    MassSpring::do_setup(const Scene &scene_in)
     {
-      scene = &scene_in;
-      stats = Statistics();
-      Timer timer;
-
-      if (!scene->dofs_are_point_blocks())
-        throw Error("mass spring: the DoFs of a vertex are not a block "
-                    "3p, 3p+1, 3p+2 (renumbered DoFs?).");
-      const unsigned int n = scene->dof_handler.n_dofs() / 3;
-      rest_position.assign(n, Point<3>());
-      is_free.assign(n, false);
-      for (unsigned int v = 0; v < scene->vertex_dofs().size(); ++v)
-        {
-          const auto &dofs = scene->vertex_dofs()[v];
-          if (dofs[0] == numbers::invalid_dof_index)
-            continue;
-          rest_position[dofs[0] / 3] = scene->triangulation.get_vertices()[v];
-          is_free[dofs[0] / 3]       = !scene->join_dofs()[dofs[0]];
-        }
+      scene                = &scene_in;
+      const auto timed     = phase("springs");
+      mesh                 = std::make_unique<PointMesh>(*scene, "mass spring");
+      const unsigned int n = mesh->n_points();
+      const auto        &row_start = mesh->row_start;
+      const auto        &neighbour = mesh->neighbour;
 
       // seed eq. 5: every edge once, with the volume of the tetrahedra that
-      // share it.
-      std::map<std::pair<unsigned int, unsigned int>, double> edge_volume;
-      tetrahedra.clear();
+      // share it (summed at the edge's position (j, k), j < k).
+      std::vector<double> edge_volume(neighbour.size(), 0.);
+      unsigned int        c = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          std::array<unsigned int, 4> p;
-          for (unsigned int a = 0; a < 4; ++a)
-            p[a] = scene->vertex_dofs()[cell->vertex_index(a)][0] / 3;
-          tetrahedra.push_back(p);
+          const auto  &p = mesh->tetrahedra[c++];
           const double volume =
-            Mesh::signed_volume(LinearElasticity::cell_vertices(cell));
+            Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = a + 1; b < 4; ++b)
-              edge_volume[{std::min(p[a], p[b]), std::max(p[a], p[b])}] +=
-                volume;
+              edge_volume[mesh->edge_index(std::min(p[a], p[b]),
+                                           std::max(p[a], p[b]))] += volume;
         }
       const double E = scene->material.youngs_modulus();
       spring_list.clear();
-      spring_list.reserve(edge_volume.size());
-      for (const auto &[edge, volume] : edge_volume)
-        {
-          const double L0 =
-            rest_position[edge.first].distance(rest_position[edge.second]);
-          spring_list.push_back(
-            {edge.first, edge.second, L0, E * volume / (L0 * L0)});
-        }
-
-      std::vector<unsigned int> count(n + 1, 0);
-      for (const Spring &s : spring_list)
-        ++count[s.a + 1], ++count[s.b + 1];
-      row_start.assign(n + 1, 0);
-      for (unsigned int j = 0; j < n; ++j)
-        row_start[j + 1] = row_start[j] + count[j + 1];
-      other_end.resize(2 * spring_list.size());
-      spring_of.resize(2 * spring_list.size());
-      std::vector<unsigned int> fill(row_start.begin(), row_start.end() - 1);
+      spring_of.assign(neighbour.size(), 0);
       total_stiffness.assign(n, 0.);
-      for (unsigned int i = 0; i < spring_list.size(); ++i)
+      for (unsigned int j = 0; j < n; ++j)
+        for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+          {
+            const unsigned int k = neighbour[i];
+            if (k < j)
+              {
+                spring_of[i] = spring_of[mesh->edge_index(k, j)];
+                continue;
+              }
+            const double L0 = mesh->position[j].distance(mesh->position[k]);
+            spring_of[i]    = spring_list.size();
+            spring_list.push_back({j, k, L0, E * edge_volume[i] / (L0 * L0)});
+          }
+      for (const Spring &spring : spring_list)
         {
-          const Spring &s      = spring_list[i];
-          other_end[fill[s.a]] = s.b, spring_of[fill[s.a]++] = i;
-          other_end[fill[s.b]] = s.a, spring_of[fill[s.b]++] = i;
-          total_stiffness[s.a] += s.stiffness;
-          total_stiffness[s.b] += s.stiffness;
+          total_stiffness[spring.a] += spring.stiffness;
+          total_stiffness[spring.b] += spring.stiffness;
         }
 
       tet_start.assign(n + 1, 0);
-      for (const auto &t : tetrahedra)
+      for (const auto &t : mesh->tetrahedra)
         for (const unsigned int p : t)
           ++tet_start[p + 1];
       for (unsigned int j = 0; j < n; ++j)
@@ -145,22 +125,24 @@ namespace softface
       tets_of_point.resize(tet_start[n]);
       std::vector<unsigned int> next_slot(tet_start.begin(),
                                           tet_start.end() - 1);
-      for (unsigned int t = 0; t < tetrahedra.size(); ++t)
-        for (const unsigned int p : tetrahedra[t])
+      for (unsigned int t = 0; t < mesh->tetrahedra.size(); ++t)
+        for (const unsigned int p : mesh->tetrahedra[t])
           tets_of_point[next_slot[p]++] = t;
 
-      stats.setup_time = timer.wall_time();
-      stats.phases.emplace_back("springs", stats.setup_time);
-      stats.details.emplace_back("springs", std::to_string(spring_list.size()));
+      add_detail("springs", spring_list.size());
     }
 
     void
-    MassSpring::solve(const Vector<double> &prescribed,
-                      Vector<double>       &displacement)
+    MassSpring::do_solve(const Vector<double> &prescribed,
+                         Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("MassSpring::setup() first."));
-      Timer              timer;
-      const unsigned int n = rest_position.size();
+      const auto        &row_start     = mesh->row_start;
+      const auto        &other_end     = mesh->neighbour;
+      const auto        &is_free       = mesh->is_free;
+      const auto        &tetrahedra    = mesh->tetrahedra;
+      const auto        &rest_position = mesh->position;
+      const unsigned int n             = rest_position.size();
 
       std::vector<Point<3>> x(rest_position);
 
@@ -302,7 +284,7 @@ namespace softface
                         {
                           const auto &v = tetrahedra[tets_of_point[t]];
                           inverted =
-                            Mesh::signed_volume(
+                            Tetrahedron::signed_volume(
                               {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
                         }
                       if (!inverted)
@@ -346,30 +328,23 @@ namespace softface
           }
       for (const auto &t : tetrahedra)
         last_report.inverted_tetrahedra +=
-          (Mesh::signed_volume({{x[t[0]], x[t[1]], x[t[2]], x[t[3]]}}) <= 0.);
+          (Tetrahedron::signed_volume({{x[t[0]], x[t[1]], x[t[2]], x[t[3]]}}) <=
+           0.);
 
-      stats.iterations = sweep;
-      stats.residual   = initial > 0. ? std::sqrt(residual / initial) : 0.;
-      stats.solve_time = timer.wall_time();
-      stats.details.resize(1);
-      stats.details.emplace_back("load steps", std::to_string(n_load_steps));
-      stats.details.emplace_back("point updates",
-                                 std::to_string(point_updates));
-      std::ostringstream s;
-      s << std::setprecision(3) << last_report.max_step << " mm";
-      stats.details.emplace_back("largest pending step", s.str());
-      stats.details.emplace_back("blocked updates",
-                                 std::to_string(blocked_updates));
-      stats.details.emplace_back(
-        "inverted tetrahedra", std::to_string(last_report.inverted_tetrahedra));
       last_report.blocked_updates = blocked_updates;
+      set_iterations(sweep);
+      set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
+      add_detail("load steps", n_load_steps);
+      add_detail("point updates", point_updates);
+      add_detail("largest pending step", last_report.max_step, "mm");
+      add_detail("blocked updates", blocked_updates);
+      add_detail("inverted tetrahedra", last_report.inverted_tetrahedra);
       if (!prevent_inversion && last_report.inverted_tetrahedra > 0 &&
           last_report.max_step <= stop_threshold)
-        std::cerr << "softface: warning: mass spring reached equilibrium with "
-                  << last_report.inverted_tetrahedra
-                  << " inverted tetrahedra (springs flipped over, seed 2.2); "
-                     "the answer is not physical there."
-                  << std::endl;
+        warn("reached equilibrium with " +
+             std::to_string(last_report.inverted_tetrahedra) +
+             " inverted tetrahedra (springs flipped over, seed 2.2); the "
+             "answer is not physical there.");
       else if (last_report.inverted_tetrahedra > 0 ||
                last_report.max_step > stop_threshold)
         {

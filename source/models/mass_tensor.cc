@@ -1,32 +1,28 @@
+// The mass tensor model (models, seed 2.3): Cotin's tensors from the shared
+// P1 stiffness kernel, the seed's local static update with its local dynamic
+// stop criterion and active set, and the precision against the converged
+// answer of the same equations.
+
 #include <deal.II/base/timer.h>
 
-#include <softface/models/active_set.h>
+#include <softface/core/displacement.h>
 #include <softface/core/error.h>
-#include <softface/fe/linear_elasticity.h>
-#include <softface/models/linear_fem.h>
+#include <softface/core/tetrahedron.h>
+#include <softface/fe/constrained_system.h>
+#include <softface/fe/elasticity.h>
+#include <softface/models/active_set.h>
 #include <softface/models/mass_tensor.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
-#include <cmath>
 #include <sstream>
 
 namespace softface
 {
   namespace Models
   {
-    namespace
-    {
-      std::string
-      format(const double value, const int precision = 3)
-      {
-        std::ostringstream s;
-        s << std::setprecision(precision) << value;
-        return s.str();
-      }
-    } // namespace
-
     void
     MassTensor::declare_parameters(ParameterHandler &prm)
     {
@@ -131,26 +127,6 @@ namespace softface
       report_precision = report;
     }
 
-    std::pair<double, double>
-    MassTensor::distance_to(const Vector<double> &reference,
-                            const double         *u) const
-    {
-      double       max = 0., sum = 0.;
-      unsigned int n_free = 0;
-      for (unsigned int j = 0; j < is_free.size(); ++j)
-        if (is_free[j])
-          {
-            double d = 0.;
-            for (unsigned int c = 0; c < 3; ++c)
-              d += std::pow(u[3 * j + c] - reference[3 * j + c], 2);
-            d   = std::sqrt(d);
-            max = std::max(max, d);
-            sum += d;
-            ++n_free;
-          }
-      return {max, n_free ? sum / n_free : 0.};
-    }
-
     void
     MassTensor::set_precision_history_file(const std::string &filename)
     {
@@ -158,67 +134,30 @@ namespace softface
     }
 
     void
-    MassTensor::setup(const Scene &scene_in)
+    MassTensor::do_setup(const Scene &scene_in)
     {
-      scene = &scene_in;
-      stats = Statistics();
-      Timer timer;
-
-      if (!scene->dofs_are_point_blocks())
-        throw Error("mass tensor: the DoFs of a vertex are not a block "
-                    "3p, 3p+1, 3p+2 (renumbered DoFs?).");
-      const unsigned int n = scene->dof_handler.n_dofs() / 3;
-      std::vector<std::array<unsigned int, 4>> cell_points;
-      cell_points.reserve(scene->triangulation.n_active_cells());
-      for (const auto &cell : scene->triangulation.active_cell_iterators())
-        {
-          std::array<unsigned int, 4> p;
-          for (unsigned int a = 0; a < 4; ++a)
-            p[a] = scene->vertex_dofs()[cell->vertex_index(a)][0] / 3;
-          cell_points.push_back(p);
-        }
-
-      // Neighbours of every point, sorted, then the block-CSR structure.
-      std::vector<std::vector<unsigned int>> adjacent(n);
-      for (const auto &p : cell_points)
-        for (unsigned int a = 0; a < 4; ++a)
-          for (unsigned int b = 0; b < 4; ++b)
-            if (a != b)
-              adjacent[p[a]].push_back(p[b]);
-      row_start.assign(n + 1, 0);
-      neighbour.clear();
-      for (unsigned int j = 0; j < n; ++j)
-        {
-          auto &a = adjacent[j];
-          std::sort(a.begin(), a.end());
-          a.erase(std::unique(a.begin(), a.end()), a.end());
-          neighbour.insert(neighbour.end(), a.begin(), a.end());
-          row_start[j + 1] = neighbour.size();
-          std::vector<unsigned int>().swap(a);
-        }
+      scene                = &scene_in;
+      converged_ready      = false;
+      const auto timed     = phase("tensors");
+      mesh                 = std::make_unique<PointMesh>(*scene, "mass tensor");
+      const unsigned int n = mesh->n_points();
 
       // seed eqs. 9-10: sum the tetrahedra's tensors per point and per edge.
-      coupling.assign(neighbour.size(), Block{});
+      coupling.assign(mesh->neighbour.size(), Block{});
       diagonal.assign(n, Block{});
-      const double lambda = scene->material.lambda(), mu = scene->material.mu();
-      unsigned int c = 0;
+      const Lame   lame = scene->material.lame();
+      unsigned int c    = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          const auto                                  &p = cell_points[c++];
-          const LinearElasticity::TetrahedronStiffness K =
-            LinearElasticity::tetrahedron_stiffness(
-              LinearElasticity::cell_vertices(cell), lambda, mu);
+          const auto                  &p = mesh->tetrahedra[c++];
+          const Elasticity::CellMatrix K = Elasticity::p1_stiffness(
+            Tetrahedron::geometry(Tetrahedron::vertices(cell)), lame);
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = 0; b < 4; ++b)
               {
-                Block *target = &diagonal[p[a]];
-                if (a != b)
-                  {
-                    const auto begin = neighbour.begin() + row_start[p[a]];
-                    const auto end   = neighbour.begin() + row_start[p[a] + 1];
-                    target = &coupling[std::lower_bound(begin, end, p[b]) -
-                                       neighbour.begin()];
-                  }
+                Block *target = (a == b) ?
+                                  &diagonal[p[a]] :
+                                  &coupling[mesh->edge_index(p[a], p[b])];
                 for (unsigned int r = 0; r < 3; ++r)
                   for (unsigned int s = 0; s < 3; ++s)
                     (*target)[3 * r + s] += K[a][b][r][s];
@@ -226,7 +165,6 @@ namespace softface
         }
 
       diagonal_inverse.resize(n);
-      is_free.assign(n, false);
       for (unsigned int j = 0; j < n; ++j)
         {
           Tensor<2, 3> D;
@@ -237,26 +175,81 @@ namespace softface
           for (unsigned int r = 0; r < 3; ++r)
             for (unsigned int s = 0; s < 3; ++s)
               diagonal_inverse[j][3 * r + s] = D_inverse[r][s];
-          is_free[j] = !scene->join_dofs()[3 * j];
         }
 
-      stats.setup_time = timer.wall_time();
-      stats.phases.emplace_back("tensors", stats.setup_time);
-      stats.details.emplace_back(
-        "tensor memory",
-        format((neighbour.size() * (sizeof(Block) + sizeof(unsigned int)) +
-                n * 2 * sizeof(Block)) /
-                 1048576.,
-               3) +
-          " MB");
+      add_detail("tensor memory",
+                 (mesh->neighbour.size() *
+                    (sizeof(Block) + sizeof(unsigned int)) +
+                  n * 2 * sizeof(Block)) /
+                   1048576.,
+                 "MB");
     }
 
     void
-    MassTensor::solve(const Vector<double> &prescribed,
-                      Vector<double>       &displacement)
+    MassTensor::solve_converged(const Vector<double> &prescribed,
+                                Vector<double>       &converged)
+    {
+      const auto         timed     = phase("converged answer", true);
+      const auto        &row_start = mesh->row_start;
+      const auto        &neighbour = mesh->neighbour;
+      const auto        &is_free   = mesh->is_free;
+      const unsigned int n         = diagonal.size();
+      if (!converged_ready)
+        {
+          // The tensors are the blocks of one sparse matrix on the shared
+          // layout; with the join DoFs eliminated it is factorised once.
+          ConstrainedSystem::make_sparsity_pattern(*scene, converged_sparsity);
+          converged_matrix.reinit(converged_sparsity);
+          for (unsigned int j = 0; j < n; ++j)
+            for (unsigned int r = 0; r < 3; ++r)
+              for (unsigned int s = 0; s < 3; ++s)
+                {
+                  converged_matrix.set(3 * j + r,
+                                       3 * j + s,
+                                       diagonal[j][3 * r + s]);
+                  for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+                    converged_matrix.set(3 * j + r,
+                                         3 * neighbour[i] + s,
+                                         coupling[i][3 * r + s]);
+                }
+          ConstrainedSystem::eliminate_join_dofs(scene->join_dofs(),
+                                                 converged_matrix);
+          LinearSolver::Parameters direct;
+          direct.method = "direct";
+          converged_solver.initialize(direct, *scene);
+          if (!converged_solver.set_matrix(converged_matrix))
+            throw Error("mass tensor: the tensors' matrix is not positive "
+                        "definite; no converged answer to compare with.");
+          converged_ready = true;
+        }
+      // -K_fj u_j on the free rows, K_jj u_j on the join rows.
+      Vector<double> rhs(3 * n);
+      for (unsigned int j = 0; j < n; ++j)
+        for (unsigned int r = 0; r < 3; ++r)
+          {
+            if (!is_free[j])
+              {
+                rhs[3 * j + r] = diagonal[j][4 * r] * prescribed[3 * j + r];
+                continue;
+              }
+            for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+              if (!is_free[neighbour[i]])
+                for (unsigned int s = 0; s < 3; ++s)
+                  rhs[3 * j + r] -=
+                    coupling[i][3 * r + s] * prescribed[3 * neighbour[i] + s];
+          }
+      converged.reinit(3 * n);
+      converged_solver.solve(rhs, converged);
+    }
+
+    void
+    MassTensor::do_solve(const Vector<double> &prescribed,
+                         Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("MassTensor::setup() first."));
-      Timer              timer;
+      const auto        &row_start = mesh->row_start;
+      const auto        &neighbour = mesh->neighbour;
+      const auto        &is_free   = mesh->is_free;
       const unsigned int n         = diagonal.size();
       const double       threshold = stop_gradient_threshold > 0. ?
                                        stop_gradient_threshold :
@@ -301,15 +294,14 @@ namespace softface
       const std::vector<unsigned int> &current =
         use_active_set ? active.current() : all_free;
 
-      // The precision study needs the converged answer during the sweeps.
+      // The precision needs the converged answer (the study during the
+      // sweeps, the report at the end).
       Vector<double> converged;
-      std::ofstream  history;
+      if (report_precision || !precision_history_file.empty())
+        solve_converged(prescribed, converged);
+      std::ofstream history;
       if (!precision_history_file.empty())
         {
-          LinearFEM reference_model;
-          reference_model.set_solver("direct", 0.);
-          reference_model.setup(*scene);
-          reference_model.solve(prescribed, converged);
           history.open(precision_history_file);
           if (!history)
             throw Error("mass tensor: cannot write 'Precision history file' '" +
@@ -325,16 +317,18 @@ namespace softface
           if (is_free[j] && n_updates[j] > 0)
             gradient =
               std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
-        const auto [max, mean] = distance_to(converged, u);
-        history << sweep_number << ',' << max << ',' << mean << ','
-                << gradient << ','
-                << n_active << '\n';
+        const auto distance =
+          Displacement::free_vertex_difference(*scene, displacement, converged);
+        history << sweep_number << ',' << distance.max << ',' << distance.mean
+                << ',' << gradient << ',' << n_active << '\n';
       };
 
       std::vector<std::array<double, 3>> jacobi_values;
       unsigned int                       sweep         = 0;
       unsigned long long                 point_updates = 0;
       bool                               done          = current.empty();
+      Timer                              sweep_timer;
+      auto                               sweeps_phase = phase("sweeps");
       while (!done)
         {
           if (sweep == max_sweeps)
@@ -342,11 +336,12 @@ namespace softface
               double g = 0.;
               for (const unsigned int j : current)
                 g = std::max(g, step_sum[j] / W);
-              throw Error(
-                "mass tensor: " + std::to_string(max_sweeps) +
-                " sweeps were not enough; " + std::to_string(current.size()) +
-                " points are still active, largest gradient " + format(g) +
-                " mm per sweep (threshold " + format(threshold) + ").");
+              std::ostringstream m;
+              m << std::setprecision(3) << "mass tensor: " << max_sweeps
+                << " sweeps were not enough; " << current.size()
+                << " points are still active, largest gradient " << g
+                << " mm per sweep (threshold " << threshold << ").";
+              throw Error(m.str());
             }
           ++sweep;
           point_updates += current.size();
@@ -382,14 +377,17 @@ namespace softface
                                             (v[1] - uj[1]) * (v[1] - uj[1]) +
                                             (v[2] - uj[2]) * (v[2] - uj[2]));
               if (!(step <= divergence_bound))
-                throw Error(
-                  "mass tensor (" +
-                  std::string(gauss_seidel ? "gauss-seidel" : "jacobi") +
-                  "): the local updates diverge (a point moved by " +
-                  format(step) + " mm in sweep " + std::to_string(sweep) +
-                  "). Jacobi order does not converge for every mesh and "
-                  "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
-                  "'Relaxation factor' below 1.");
+                {
+                  std::ostringstream m;
+                  m << std::setprecision(3) << "mass tensor ("
+                    << (gauss_seidel ? "gauss-seidel" : "jacobi")
+                    << "): the local updates diverge (a point moved by " << step
+                    << " mm in sweep " << sweep
+                    << "). Jacobi order does not converge for every mesh and "
+                       "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
+                       "'Relaxation factor' below 1.";
+                  throw Error(m.str());
+                }
               if (gauss_seidel)
                 uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
               else
@@ -426,7 +424,8 @@ namespace softface
           else
             done = all_stopped;
         }
-      const double sweep_time = timer.wall_time();
+      const double sweep_time = sweep_timer.wall_time();
+      sweeps_phase.stop();
 
       // Residual force on the free points against the force at the start.
       double residual = 0., initial = 0.;
@@ -467,36 +466,24 @@ namespace softface
             std::max(last_report.max_gradient,
                      step_sum[j] / std::min(n_updates[j], W));
 
-      stats.iterations = sweep;
-      stats.residual   = initial > 0. ? std::sqrt(residual / initial) : 0.;
-      stats.solve_time = timer.wall_time();
-      stats.details.resize(1); // keep the tensor memory from setup()
-      stats.details.emplace_back("point updates",
-                                 std::to_string(point_updates));
-      stats.details.emplace_back(
-        "ns per update",
-        format(point_updates ? 1e9 * sweep_time / point_updates : 0., 3));
-      stats.details.emplace_back("max gradient",
-                                 format(last_report.max_gradient, 3) +
-                                   " mm/sweep");
-
+      set_iterations(sweep);
+      set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
+      add_detail("point updates", point_updates);
+      add_detail("ns per update",
+                 point_updates ? 1e9 * sweep_time / point_updates : 0.,
+                 "",
+                 true);
+      add_detail("max gradient", last_report.max_gradient, "mm/sweep");
       if (report_precision)
         {
-          Timer     reference_timer;
-          LinearFEM reference_model;
-          reference_model.set_solver("direct", 0.);
-          reference_model.setup(*scene);
-          Vector<double> reference;
-          reference_model.solve(prescribed, reference);
-          const auto [max, mean]     = distance_to(reference, u);
-          last_report.precision_max  = max;
-          last_report.precision_mean = mean;
-          stats.details.emplace_back("precision max", format(max, 3) + " mm");
-          stats.details.emplace_back("precision mean",
-                                     format(last_report.precision_mean, 3) +
-                                       " mm");
-          stats.details.emplace_back("reference s",
-                                     format(reference_timer.wall_time(), 3));
+          const auto distance =
+            Displacement::free_vertex_difference(*scene,
+                                                 displacement,
+                                                 converged);
+          last_report.precision_max  = distance.max;
+          last_report.precision_mean = distance.mean;
+          add_detail("precision max", distance.max, "mm");
+          add_detail("precision mean", distance.mean, "mm");
         }
     }
 
@@ -514,9 +501,10 @@ namespace softface
         block = &diagonal[j];
       else
         {
-          const auto begin = neighbour.begin() + row_start[j];
-          const auto end   = neighbour.begin() + row_start[j + 1];
-          const auto it    = std::lower_bound(begin, end, k);
+          const auto &neighbour = mesh->neighbour;
+          const auto  begin     = neighbour.begin() + mesh->row_start[j];
+          const auto  end       = neighbour.begin() + mesh->row_start[j + 1];
+          const auto  it        = std::lower_bound(begin, end, k);
           if (it != end && *it == k)
             block = &coupling[it - neighbour.begin()];
         }

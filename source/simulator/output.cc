@@ -1,3 +1,6 @@
+// The fields a run writes (simulator): solution.vtu with every model's
+// displacement and the scene's labels for ParaView, and per-vertex CSVs.
+
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/numerics/data_out.h>
@@ -14,53 +17,6 @@ namespace softface
 {
   namespace Output
   {
-    double
-    max_displacement(const Scene &scene, const Vector<double> &u)
-    {
-      double max_norm = 0.;
-      for (const auto &dofs : scene.vertex_dofs())
-        if (dofs[0] != numbers::invalid_dof_index)
-          max_norm = std::max(max_norm,
-                              std::sqrt(u[dofs[0]] * u[dofs[0]] +
-                                        u[dofs[1]] * u[dofs[1]] +
-                                        u[dofs[2]] * u[dofs[2]]));
-      return max_norm;
-    }
-
-    void
-    compare_to_linear_fem(const Scene &scene, std::vector<ModelRun> &runs)
-    {
-      const auto reference =
-        std::find_if(runs.begin(), runs.end(), [](const ModelRun &run) {
-          return run.model == "linear fem";
-        });
-      if (reference == runs.end())
-        return;
-      for (ModelRun &run : runs)
-        {
-          double       max = 0., sum = 0.;
-          unsigned int n = 0;
-          for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
-            {
-              const auto &dofs = scene.vertex_dofs()[v];
-              if (dofs[0] == numbers::invalid_dof_index ||
-                  scene.vertex_segment()[v] != numbers::invalid_unsigned_int)
-                continue;
-              double d = 0.;
-              for (const auto dof : dofs)
-                d +=
-                  std::pow(run.displacement[dof] - reference->displacement[dof],
-                           2);
-              d   = std::sqrt(d);
-              max = std::max(max, d);
-              sum += d;
-              ++n;
-            }
-          run.max_difference  = max;
-          run.mean_difference = n ? sum / n : 0.;
-        }
-    }
-
     std::string
     file_name_of(const std::string &model)
     {
@@ -82,95 +38,9 @@ namespace softface
     } // namespace
 
     void
-    write_summary_csv(const Scene                 &scene,
-                      const std::vector<ModelRun> &runs,
-                      const std::string           &filename)
-    {
-      std::ofstream out = open(filename);
-      out << "model,n_tets,n_vertices,n_free_dofs,setup_s,solve_s,iterations,"
-             "max_displacement_mm,max_diff_to_linear_fem_mm,"
-             "mean_diff_to_linear_fem_mm,relative_residual,phases,details\n";
-      for (const ModelRun &run : runs)
-        {
-          out << run.model << ',' << scene.triangulation.n_active_cells() << ','
-              << scene.n_vertices() << ',' << scene.n_free_dofs() << ','
-              << std::setprecision(6) << run.statistics.setup_time << ','
-              << run.statistics.solve_time << ',' << run.statistics.iterations
-              << ',' << std::setprecision(10)
-              << max_displacement(scene, run.displacement) << ','
-              << (run.max_difference >= 0 ? std::to_string(run.max_difference) :
-                                            "")
-              << ','
-              << (run.mean_difference >= 0 ?
-                    std::to_string(run.mean_difference) :
-                    "")
-              << ',' << std::setprecision(3) << run.statistics.residual << ',';
-          // Phases and details as "name=value" pairs separated by ';'.
-          for (unsigned int i = 0; i < run.statistics.phases.size(); ++i)
-            out << (i ? ";" : "") << run.statistics.phases[i].first << '='
-                << std::setprecision(4) << run.statistics.phases[i].second;
-          out << ',';
-          for (unsigned int i = 0; i < run.statistics.details.size(); ++i)
-            out << (i ? ";" : "") << run.statistics.details[i].first << '='
-                << run.statistics.details[i].second;
-          out << '\n';
-        }
-    }
-
-    void
-    print_summary_table(const Scene                 &scene,
-                        const std::vector<ModelRun> &runs,
-                        std::ostream                &out)
-    {
-      const auto flags = out.flags();
-      out << '\n'
-          << std::left << std::setw(14) << "model" << std::right
-          << std::setw(10) << "tets" << std::setw(10) << "vertices"
-          << std::setw(11) << "free DoFs" << std::setw(10) << "setup s"
-          << std::setw(10) << "solve s" << std::setw(8) << "iters"
-          << std::setw(14) << "max |u| mm" << std::setw(22)
-          << "|u - u_linfem| max" << std::setw(8) << "mean" << '\n'
-          << std::string(117, '-') << '\n';
-      for (const ModelRun &run : runs)
-        {
-          out << std::left << std::setw(14) << run.model << std::right
-              << std::setw(10) << scene.triangulation.n_active_cells()
-              << std::setw(10) << scene.n_vertices() << std::setw(11)
-              << scene.n_free_dofs() << std::fixed << std::setprecision(3)
-              << std::setw(10) << run.statistics.setup_time << std::setw(10)
-              << run.statistics.solve_time << std::setw(8)
-              << run.statistics.iterations << std::setprecision(4)
-              << std::setw(14) << max_displacement(scene, run.displacement);
-          if (run.max_difference >= 0)
-            out << std::setw(22) << run.max_difference << std::setw(8)
-                << run.mean_difference;
-          out << '\n';
-        }
-      out << '\n';
-      for (const ModelRun &run : runs)
-        {
-          out << run.model << " phases:";
-          for (const auto &[name, seconds] : run.statistics.phases)
-            out << "  " << name << ' ' << std::setprecision(3) << seconds
-                << " s";
-          out << "  (relative residual " << std::scientific
-              << std::setprecision(1) << run.statistics.residual << ")\n"
-              << std::fixed;
-          if (!run.statistics.details.empty())
-            {
-              out << run.model << " details:";
-              for (const auto &[name, value] : run.statistics.details)
-                out << "  " << name << ' ' << value;
-              out << '\n';
-            }
-        }
-      out.flags(flags);
-    }
-
-    void
-    write_vtu(const Scene                 &scene,
-              const std::vector<ModelRun> &runs,
-              const std::string           &filename)
+    write_vtu(const Scene                         &scene,
+              const std::vector<Report::ModelRun> &runs,
+              const std::string                   &filename)
     {
       // Per-vertex flags live on a scalar P1 layout beside the vector one.
       DoFHandler<3> scalar_dofs(scene.triangulation);
@@ -192,13 +62,14 @@ namespace softface
       const std::vector<
         DataComponentInterpretation::DataComponentInterpretation>
         vector(3, DataComponentInterpretation::component_is_part_of_vector);
-      for (const ModelRun &run : runs)
-        data_out.add_data_vector(
-          scene.dof_handler,
-          run.displacement,
-          std::vector<std::string>(3,
-                                   "displacement_" + file_name_of(run.model)),
-          vector);
+      for (const Report::ModelRun &run : runs)
+        if (!run.failed)
+          data_out.add_data_vector(
+            scene.dof_handler,
+            run.displacement,
+            std::vector<std::string>(3,
+                                     "displacement_" + file_name_of(run.model)),
+            vector);
       data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
       data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
       Vector<float> material(scene.triangulation.n_active_cells());

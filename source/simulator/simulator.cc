@@ -1,15 +1,22 @@
+// Runs a scene (simulator): reads the parameter file in two passes, builds the
+// scene and the planning, runs the selected models side by side (a failing
+// model is reported and the others go on), and writes the report and fields.
+
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <softface/core/displacement.h>
 #include <softface/core/error.h>
-#include <softface/models/interface.h>
-#include <softface/simulator/output.h>
 #include <softface/core/planning.h>
+#include <softface/core/scene.h>
 #include <softface/fe/point_evaluation.h>
 #include <softface/io/points_csv.h>
-#include <softface/core/scene.h>
+#include <softface/models/interface.h>
+#include <softface/simulator/output.h>
+#include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -42,6 +49,14 @@ namespace softface
                           "Write displacements_<model>.csv with columns "
                           "x,y,z,ux,uy,uz (mm), one row per vertex in "
                           "reference coordinates.");
+        prm.declare_entry("Reference model",
+                          "linear fem",
+                          Patterns::Anything(),
+                          "The model every other model's displacement is "
+                          "compared to in the table and summary.csv (largest "
+                          "and mean difference over the free vertices). No "
+                          "comparison when it is not among Models/Models or "
+                          "fails.");
         prm.declare_entry(
           "Evaluation points",
           "",
@@ -65,6 +80,7 @@ namespace softface
         write_vtu                 = prm.get_bool("Write VTU");
         write_nodal_displacements = prm.get_bool("Write nodal displacements");
         evaluation_points         = prm.get("Evaluation points");
+        reference_model           = prm.get("Reference model");
         prm.leave_subsection();
       }
 
@@ -72,6 +88,7 @@ namespace softface
       bool        write_vtu                 = true;
       bool        write_nodal_displacements = false;
       std::string evaluation_points;
+      std::string reference_model;
     };
 
     // The names a file lists in a given entry, read tolerantly (pass one).
@@ -118,7 +135,9 @@ namespace softface
   }
 
   int
-  Simulator::run(const std::string &filename)
+  Simulator::run(const std::string &filename,
+                 std::ostream      &out,
+                 std::ostream      &err)
   {
     Timer wall;
 
@@ -127,28 +146,43 @@ namespace softface
 
     OutputParameters output;
     output.parse_parameters(prm);
+    reference = output.reference_model;
     std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>>
       models;
-    for (const std::string &name : Models::selected_names(prm))
-      models.emplace_back(name, Models::create(name, prm));
+    try
+      {
+        for (const std::string &name : Models::selected_names(prm))
+          models.emplace_back(name, Models::create(name, prm));
+        if (!output.reference_model.empty())
+          {
+            const auto known = Models::registered_names();
+            if (std::find(known.begin(), known.end(), reference) == known.end())
+              throw Error("Output/Reference model: '" + reference +
+                          "' is not a model ('softface --help' lists them).");
+          }
+      }
+    catch (const Error &e)
+      {
+        throw Error(filename + ": " + e.what());
+      }
 
-    std::cout << "softface: scene " << filename << std::endl;
+    out << "softface: scene " << filename << std::endl;
     const std::string input_directory =
       std::filesystem::path(filename).parent_path().string();
-    Scene scene;
+    the_scene    = std::make_unique<Scene>();
+    Scene &scene = *the_scene;
     scene.parse_parameters(prm, input_directory);
     Planning planning;
     planning.parse_parameters(prm, scene);
 
-    std::cout << "  mesh " << scene.mesh_description << ": "
-              << scene.triangulation.n_active_cells() << " tetrahedra, "
-              << scene.n_vertices() << " vertices, " << scene.n_free_dofs()
-              << " free DoFs (" << std::fixed << std::setprecision(2)
-              << wall.wall_time() << " s)" << std::endl;
+    out << "  mesh " << scene.mesh_description << ": "
+        << scene.triangulation.n_active_cells() << " tetrahedra, "
+        << scene.n_vertices() << " vertices, " << scene.n_free_dofs()
+        << " free DoFs (" << std::fixed << std::setprecision(2)
+        << wall.wall_time() << " s)" << std::endl;
     for (unsigned int s = 0; s < scene.segments.size(); ++s)
-      std::cout << "  segment '" << scene.segments[s].name
-                << "': " << scene.n_join_vertices(s) << " join points"
-                << std::endl;
+      out << "  segment '" << scene.segments[s].name
+          << "': " << scene.n_join_vertices(s) << " join points" << std::endl;
 
     std::unique_ptr<PointEvaluation> evaluation;
     if (!output.evaluation_points.empty())
@@ -167,9 +201,8 @@ namespace softface
             throw Error("Output/Evaluation points '" + points_file.string() +
                         "': " + e.what());
           }
-        std::cout << "  " << evaluation->points().size()
-                  << " evaluation points from " << points_file.string()
-                  << std::endl;
+        out << "  " << evaluation->points().size() << " evaluation points from "
+            << points_file.string() << std::endl;
       }
 
     std::filesystem::create_directories(output.directory);
@@ -184,30 +217,34 @@ namespace softface
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
-
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says
     // that something failed.
-    std::vector<Output::ModelRun> runs;
-    std::vector<std::string>      failures;
+    model_runs.clear();
+    unsigned int n_failed = 0;
     for (unsigned int m = 0; m < models.size(); ++m)
       {
-        auto &[name, model] = models[m];
-        const std::string tag =
-          "  [" + std::to_string(m + 1) + '/' + std::to_string(models.size()) +
-          "] " + name + ": ";
+        auto &[name, model]   = models[m];
+        const std::string tag = "  [" + std::to_string(m + 1) + '/' +
+                                std::to_string(models.size()) + "] " + name +
+                                ": ";
+        Report::ModelRun run;
+        run.model = name;
         try
           {
+            model->set_progress_stream(&out);
             model->setup(scene);
-            std::cout << tag << "setup " << model->statistics().setup_time
-                      << " s" << std::endl;
-            model->set_progress_stream(&std::cout);
-            Output::ModelRun run;
-            run.model = name;
+            out << tag << "setup " << model->statistics().setup_time << " s"
+                << std::endl;
             model->solve(prescribed, run.displacement);
             run.statistics = model->statistics();
-            std::cout << tag << "solve " << run.statistics.solve_time << " s"
-                      << std::endl;
+            run.max_displacement =
+              Displacement::max_norm(scene, run.displacement);
+            out << tag << "solve " << run.statistics.solve_time << " s"
+                << std::endl;
+            for (const auto &warning : run.statistics.warnings)
+              err << "softface: warning: " << name << ": " << warning
+                  << std::endl;
             if (evaluation)
               {
                 const auto [field_dofs, field] = model->displacement_field();
@@ -219,48 +256,84 @@ namespace softface
                   output.directory + "/evaluation_" +
                     Output::file_name_of(name) + ".csv");
               }
-            runs.push_back(std::move(run));
           }
-        catch (const Error &e)
+        catch (const std::exception &e)
           {
-            std::cout << tag << "failed" << std::endl;
-            std::cerr << "softface: error: " << e.what() << std::endl;
-            failures.push_back(name);
+            out << tag << "failed" << std::endl;
+            run.failed = true;
+            run.error  = error_message(e);
+            run.displacement.reinit(0);
+            err << "softface: error: " << run.error << std::endl;
+            ++n_failed;
           }
+        // The model's memory is freed once it has run; the peak stays.
+        model.reset();
+        Utilities::System::MemoryStats memory;
+        Utilities::System::get_memory_stats(memory);
+        run.peak_memory_mb = memory.VmHWM / 1024.;
+        model_runs.push_back(std::move(run));
       }
 
-    Output::compare_to_linear_fem(scene, runs);
-    Output::print_summary_table(scene, runs, std::cout);
-    Output::write_summary_csv(scene, runs, output.directory + "/summary.csv");
+    Report::compare_to(scene, reference, model_runs);
+    out << '\n';
+    Report::print(scene, model_runs, reference, true, out);
+    Report::write_summary_csv(scene,
+                              model_runs,
+                              reference,
+                              output.directory + "/summary.csv");
+    Report::write_statistics(scene,
+                             model_runs,
+                             output.directory + "/statistics");
     if (output.write_vtu)
-      Output::write_vtu(scene, runs, output.directory + "/solution.vtu");
+      Output::write_vtu(scene, model_runs, output.directory + "/solution.vtu");
     if (output.write_nodal_displacements)
-      for (const auto &run : runs)
-        Output::write_nodal_displacements(scene,
-                                          run.displacement,
-                                          output.directory + "/displacements_" +
-                                            Output::file_name_of(run.model) +
-                                            ".csv");
+      for (const auto &run : model_runs)
+        if (!run.failed)
+          Output::write_nodal_displacements(scene,
+                                            run.displacement,
+                                            output.directory +
+                                              "/displacements_" +
+                                              Output::file_name_of(run.model) +
+                                              ".csv");
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
-    std::cout << "\nOutputs in " << output.directory << "/ (summary.csv"
-              << (output.write_vtu ? ", solution.vtu" : "")
-              << (output.write_nodal_displacements ? ", displacements_*.csv" :
-                                                     "")
-              << ", input.prm, parameters.prm)\n"
-              << "Wall time " << std::setprecision(2) << wall.wall_time()
-              << " s, peak memory " << memory.VmHWM / 1024 << " MB"
-              << std::endl;
-    if (!failures.empty())
+    out << "\nOutputs in " << output.directory << "/ (summary.csv, statistics"
+        << (output.write_vtu ? ", solution.vtu" : "")
+        << (output.write_nodal_displacements ? ", displacements_*.csv" : "")
+        << (evaluation ? ", evaluation_*.csv" : "")
+        << ", input.prm, parameters.prm)\n"
+        << "Wall time " << std::setprecision(2) << wall.wall_time()
+        << " s, peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;
+    if (n_failed > 0)
       {
         std::string names;
-        for (const auto &f : failures)
-          names += (names.empty() ? "" : ", ") + f;
-        std::cerr << "softface: " << failures.size()
-                  << " model(s) failed: " << names << std::endl;
+        for (const auto &run : model_runs)
+          if (run.failed)
+            names += (names.empty() ? "" : ", ") + run.model;
+        err << "softface: " << n_failed << " model(s) failed: " << names
+            << std::endl;
         return 1;
       }
     return 0;
+  }
+
+  const Scene &
+  Simulator::scene() const
+  {
+    Assert(the_scene, ExcMessage("Simulator::run() first."));
+    return *the_scene;
+  }
+
+  const std::vector<Report::ModelRun> &
+  Simulator::runs() const
+  {
+    return model_runs;
+  }
+
+  const std::string &
+  Simulator::reference_model() const
+  {
+    return reference;
   }
 } // namespace softface

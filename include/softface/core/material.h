@@ -7,6 +7,13 @@ namespace softface
 {
   using namespace dealii;
 
+  /// Lame coefficients of an isotropic material, N/mm^2 (MPa).
+  struct Lame
+  {
+    double lambda = 0.;
+    double mu     = 0.;
+  };
+
   /**
    * Homogeneous isotropic soft tissue. Lengths in softface are in mm, so the
    * Lame coefficients are returned in N/mm^2 (MPa); the parameter file gives
@@ -29,6 +36,9 @@ namespace softface
     /// seed eq. 7
     double
     mu() const;
+    /// Both Lame coefficients.
+    Lame
+    lame() const;
 
     double youngs_modulus_pa = 3000.;
     double poissons_ratio    = 0.46;

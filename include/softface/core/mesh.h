@@ -61,9 +61,6 @@ namespace softface
     check_cells(const Triangulation<3> &triangulation,
                 const std::string      &source);
 
-    /// Signed volume of the tetrahedron (positive for deal.II's orientation).
-    double
-    signed_volume(const std::array<Point<3>, 4> &x);
   } // namespace Mesh
 } // namespace softface
 

@@ -43,9 +43,9 @@ namespace softface
     points() const;
 
   private:
-    std::vector<Point<3>>                                 evaluation_points;
-    std::vector<Triangulation<3>::active_cell_iterator>   cells;
-    std::vector<Point<3>>                                 reference_points;
+    std::vector<Point<3>>                               evaluation_points;
+    std::vector<Triangulation<3>::active_cell_iterator> cells;
+    std::vector<Point<3>>                               reference_points;
   };
 
 } // namespace softface

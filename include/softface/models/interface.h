@@ -2,13 +2,15 @@
 #define softface_models_interface_h
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/timer.h>
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/scene.h>
 
 #include <functional>
-#include <ostream>
+#include <limits>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,43 +21,77 @@ namespace softface
 
   namespace Models
   {
+    /**
+     * One of a model's own figures (sweeps, precision, Newton iterations per
+     * load step, ...), printed under the summary table and written to
+     * summary.csv. A figure that depends on timing (ns per update) is marked
+     * so that outputs meant to be reproducible can leave it out.
+     */
+    struct Detail
+    {
+      std::string name;
+      /// The value of a numeric figure (NaN for a text figure).
+      double value = std::numeric_limits<double>::quiet_NaN();
+      /// The value of a text figure (empty for a numeric one).
+      std::string text;
+      std::string unit;
+      bool        depends_on_timing = false;
+
+      /// As printed: numbers with @p digits significant digits (integers
+      /// whole) or, with digits == 0, in full (round-trip) precision.
+      std::string
+      formatted(const unsigned int digits = 3) const;
+    };
+
     /// What a model reports about its last setup() and solve().
     struct Statistics
     {
-      double       setup_time = 0.; ///< s, wall clock
-      double       solve_time = 0.; ///< s, wall clock
+      /// s, wall clock of setup() and solve(), diagnostic phases excluded
+      double       setup_time = 0.;
+      double       solve_time = 0.;
       unsigned int iterations = 0;
-      double       residual   = 0.; ///< the model's own measure at the end
-      /// Finer phases (name, s), printed under the summary table.
+      double       residual   = 0.; ///< the model's own relative measure
+      /// The unknowns the model solves for, join DoFs included (0: the
+      /// shared layout's, three per vertex).
+      unsigned int n_dofs = 0;
+      /// Durations (s) of the phases of setup() and then of solve(), in the
+      /// order they first ran; a phase entered several times (Newton
+      /// assembly) shows its total. Diagnostic phases (not counted in the
+      /// setup and solve times) are marked "(diagnostic)".
       std::vector<std::pair<std::string, double>> phases;
-      /// Model-specific figures (name, value), printed with the phases.
-      std::vector<std::pair<std::string, std::string>> details;
+      std::vector<Detail>                         details;
+      /// Results that hold but that a user must know about (e.g. inverted
+      /// tetrahedra); the simulator prints them.
+      std::vector<std::string> warnings;
     };
 
     /**
      * What every soft-tissue model offers. A model works on the scene's one
      * DoF layout: setup() once per scene (everything that does not depend on
-     * the planning), then solve() for any number of plannings.
+     * the planning), then solve() for any number of plannings. Both are
+     * timed here, the same way for every model; a model implements
+     * do_setup() and do_solve() and names its phases with phase().
      */
     class Interface
     {
     public:
+      Interface();
       virtual ~Interface() = default;
 
       /// Read the model's own subsection (the handler is already inside it).
       virtual void
       parse_parameters(ParameterHandler &prm);
 
-      virtual void
-      setup(const Scene &scene) = 0;
+      void
+      setup(const Scene &scene);
 
       /**
        * Compute the displacement of every vertex. @p prescribed holds the
        * join points' displacement (its free entries are ignored); on return
        * @p displacement equals it on the join DoFs.
        */
-      virtual void
-      solve(const Vector<double> &prescribed, Vector<double> &displacement) = 0;
+      void
+      solve(const Vector<double> &prescribed, Vector<double> &displacement);
 
       const Statistics &
       statistics() const;
@@ -77,8 +113,59 @@ namespace softface
       set_progress_stream(std::ostream *stream);
 
     protected:
-      Statistics    stats;
+      virtual void
+      do_setup(const Scene &scene) = 0;
+      virtual void
+      do_solve(const Vector<double> &prescribed,
+               Vector<double>       &displacement) = 0;
+
+      /**
+       * Time a phase of setup or solve until the returned scope ends. A
+       * @p diagnostic phase (e.g. the converged answer a precision is
+       * measured against) is reported but not counted in the setup or solve
+       * time: it is not the model's work.
+       */
+      TimerOutput::Scope
+      phase(const std::string &name, const bool diagnostic = false);
+      /// The timer behind phase(), for components that enter phases.
+      TimerOutput &
+      timer();
+
+      void
+      set_iterations(const unsigned int iterations);
+      void
+      set_residual(const double relative_residual);
+      /// For a model on a layout of its own (see Statistics::n_dofs).
+      void
+      set_n_dofs(const unsigned int n_dofs);
+      /// A numeric figure; @p depends_on_timing for time-derived ones.
+      void
+      add_detail(const std::string &name,
+                 const double       value,
+                 const std::string &unit              = "",
+                 const bool         depends_on_timing = false);
+      /// A text figure.
+      void
+      add_detail(const std::string &name, const std::string &text);
+      void
+      warn(const std::string &message);
+
       std::ostream *progress = nullptr;
+
+    private:
+      /// The phases the timer holds, in the order they first ran, and
+      /// the time the diagnostic ones took.
+      std::vector<std::pair<std::string, double>>
+      collect_phases(double &diagnostic_time);
+
+      TimerOutput              timer_output;
+      std::vector<std::string> phase_order;
+      std::vector<std::string> diagnostic_phases;
+      // setup()'s part of the statistics stays for every later solve().
+      std::vector<std::pair<std::string, double>> setup_phases;
+      std::vector<Detail>                         setup_details;
+      std::vector<std::string>                    setup_warnings;
+      Statistics                                  stats;
     };
 
     /// Names of all registered models, in alphabetical order.
@@ -89,7 +176,8 @@ namespace softface
     void
     declare_parameters(ParameterHandler &prm);
 
-    /// The names in "Models/Models" of a parsed handler.
+    /// The names in "Models/Models" of a parsed handler; throws a clear
+    /// error naming an unknown one.
     std::vector<std::string>
     selected_names(ParameterHandler &prm);
 
@@ -110,6 +198,7 @@ namespace softface
         std::function<std::unique_ptr<Interface>()> factory;
       };
 
+      /// Throws if @p name is registered already.
       bool
       register_model(const std::string &name, Registration registration);
     } // namespace internal

@@ -2,8 +2,10 @@
 #define softface_models_mass_spring_h
 
 #include <softface/models/interface.h>
+#include <softface/models/point_mesh.h>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 namespace softface
@@ -39,12 +41,6 @@ namespace softface
       parse_parameters(ParameterHandler &prm) override;
 
       void
-      setup(const Scene &scene) override;
-      void
-      solve(const Vector<double> &prescribed,
-            Vector<double>       &displacement) override;
-
-      void
       set_stop_threshold(const double threshold_mm);
       void
       set_prevent_inversion(const bool prevent);
@@ -74,24 +70,29 @@ namespace softface
       const Report &
       report() const;
 
+    protected:
+      void
+      do_setup(const Scene &scene) override;
+      void
+      do_solve(const Vector<double> &prescribed,
+               Vector<double>       &displacement) override;
+
     private:
       double       stop_threshold    = 1e-3;
       double       max_step_fraction = 0.25;
       unsigned int max_sweeps        = 200000;
       bool         prevent_inversion = false;
 
-      const Scene        *scene = nullptr;
-      std::vector<Spring> spring_list;
-      // Per point: its springs (CSR), the other end and the spring index.
-      std::vector<unsigned int>                row_start;
-      std::vector<unsigned int>                other_end;
-      std::vector<unsigned int>                spring_of;
-      std::vector<double>                      total_stiffness;
-      std::vector<Point<3>>                    rest_position;
-      std::vector<bool>                        is_free;
-      std::vector<std::array<unsigned int, 4>> tetrahedra;
-      std::vector<unsigned int>                tet_start;
-      std::vector<unsigned int>                tets_of_point;
+      const Scene               *scene = nullptr;
+      std::unique_ptr<PointMesh> mesh;
+      std::vector<Spring>        spring_list;
+      // Per point: its springs run along its neighbours (mesh->row_start,
+      // ->neighbour); the spring of each such edge, the sum of the point's
+      // spring constants, and the tetrahedra around the point (CSR).
+      std::vector<unsigned int> spring_of;
+      std::vector<double>       total_stiffness;
+      std::vector<unsigned int> tet_start;
+      std::vector<unsigned int> tets_of_point;
 
       Report last_report;
     };

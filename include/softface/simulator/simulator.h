@@ -1,9 +1,15 @@
-#ifndef softface_simulator_h
-#define softface_simulator_h
+#ifndef softface_simulator_simulator_h
+#define softface_simulator_simulator_h
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <softface/core/scene.h>
+#include <softface/simulator/report.h>
+
+#include <iostream>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace softface
 {
@@ -11,8 +17,9 @@ namespace softface
 
   /**
    * Runs one scene file: parse it, build the scene, turn the planning into
-   * join-point displacements, run every selected model on them and write the
-   * outputs.
+   * join-point displacements, run every selected model on them, report them
+   * side by side and write the outputs. A model that fails is reported with
+   * its reason and the others still run.
    */
   class Simulator
   {
@@ -35,9 +42,28 @@ namespace softface
     static void
     print_default_parameters(std::ostream &out);
 
-    /// Run the scene in @p filename; returns the process exit code.
-    static int
-    run(const std::string &filename);
+    /**
+     * Run the scene in @p filename: progress and the table go to @p out,
+     * warnings and model errors to @p err. Returns the process exit code: 0,
+     * or 1 if a model failed. Errors in the input are thrown as Error.
+     */
+    int
+    run(const std::string &filename,
+        std::ostream      &out = std::cout,
+        std::ostream      &err = std::cerr);
+
+    /// After run(): the scene, every model's run and the reference model.
+    const Scene &
+    scene() const;
+    const std::vector<Report::ModelRun> &
+    runs() const;
+    const std::string &
+    reference_model() const;
+
+  private:
+    std::unique_ptr<Scene>        the_scene;
+    std::vector<Report::ModelRun> model_runs;
+    std::string                   reference;
   };
 } // namespace softface
 

@@ -1,61 +1,23 @@
+// Linear systems with prescribed join DoFs (fe): sparsity of the shared
+// layout, cell matrices added row by row, symmetric elimination of the join
+// DoFs and the right-hand side that goes with it. Used by linear FEM, the
+// nonlinear models' Newton iterations and the mass tensor model.
+
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/full_matrix.h>
 
-#include <softface/fe/linear_elasticity.h>
+#include <softface/fe/constrained_system.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace softface
 {
-  namespace LinearElasticity
+  namespace ConstrainedSystem
   {
-    TetrahedronStiffness
-    tetrahedron_stiffness(const std::array<Point<3>, 4> &x,
-                          const double                   lambda,
-                          const double                   mu)
-    {
-      // The columns of J are the edges from vertex 0; the rows of J^-1 are
-      // the (constant) gradients of the barycentric shape functions 1..3.
-      Tensor<2, 3> J;
-      for (unsigned int k = 0; k < 3; ++k)
-        for (unsigned int d = 0; d < 3; ++d)
-          J[d][k] = x[k + 1][d] - x[0][d];
-      const double       volume    = determinant(J) / 6.;
-      const Tensor<2, 3> J_inverse = invert(J);
-
-      std::array<Tensor<1, 3>, 4> grad;
-      for (unsigned int a = 1; a < 4; ++a)
-        grad[a] = J_inverse[a - 1];
-      grad[0] = -(grad[1] + grad[2] + grad[3]);
-
-      // Second derivative of the elastic energy
-      //   V (lambda/2 (div u)^2 + mu eps:eps)
-      // with respect to u_a[i] and u_b[j].
-      TetrahedronStiffness K;
-      for (unsigned int a = 0; a < 4; ++a)
-        for (unsigned int b = 0; b < 4; ++b)
-          {
-            const double shear = mu * (grad[a] * grad[b]);
-            for (unsigned int i = 0; i < 3; ++i)
-              for (unsigned int j = 0; j < 3; ++j)
-                K[a][b][i][j] = volume * (lambda * grad[a][i] * grad[b][j] +
-                                          mu * grad[a][j] * grad[b][i] +
-                                          (i == j ? shear : 0.));
-          }
-      return K;
-    }
-
-    std::array<Point<3>, 4>
-    cell_vertices(const Triangulation<3>::active_cell_iterator &cell)
-    {
-      return {
-        {cell->vertex(0), cell->vertex(1), cell->vertex(2), cell->vertex(3)}};
-    }
-
     void
     make_sparsity_pattern(const Scene &scene, SparsityPattern &sparsity)
     {
@@ -64,25 +26,15 @@ namespace softface
       sparsity.copy_from(dsp);
     }
 
-    void
-    assemble_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
+    std::array<types::global_dof_index, 12>
+    cell_dofs(const Scene                                  &scene,
+              const Triangulation<3>::active_cell_iterator &cell)
     {
-      const double lambda = scene.material.lambda();
-      const double mu     = scene.material.mu();
-
       std::array<types::global_dof_index, 12> dofs;
-      stiffness = 0;
-      for (const auto &cell : scene.triangulation.active_cell_iterators())
-        {
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
-          add_cell_matrix(dofs,
-                          tetrahedron_stiffness(cell_vertices(cell),
-                                                lambda,
-                                                mu),
-                          stiffness);
-        }
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int i = 0; i < 3; ++i)
+          dofs[3 * a + i] = scene.vertex_dofs()[cell->vertex_index(a)][i];
+      return dofs;
     }
 
     std::array<std::uint8_t, 12>
@@ -100,7 +52,7 @@ namespace softface
 
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const TetrahedronStiffness                    &K,
+                    const Elasticity::CellMatrix                  &K,
                     SparseMatrix<double>                          &matrix)
     {
       add_cell_matrix(dofs, sorted_order(dofs), K, matrix);
@@ -109,7 +61,7 @@ namespace softface
     void
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
                     const std::array<std::uint8_t, 12>            &order,
-                    const TetrahedronStiffness                    &K,
+                    const Elasticity::CellMatrix                  &K,
                     SparseMatrix<double>                          &matrix)
     {
       // Adding a row with sorted column indices lets SparseMatrix merge it
@@ -143,5 +95,37 @@ namespace softface
               entry->column() != row)
             entry->value() = 0.;
     }
-  } // namespace LinearElasticity
+
+    void
+    right_hand_side(const SparseMatrix<double> &unconstrained,
+                    const std::vector<bool>    &is_join,
+                    const Vector<double>       &join_values,
+                    const Vector<double>       *residual,
+                    Vector<double>             &rhs)
+    {
+      const unsigned int n = is_join.size();
+      Vector<double>     d(n);
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          d[i] = join_values[i];
+      rhs.reinit(n);
+      unconstrained.vmult(rhs, d);
+      if (residual != nullptr)
+        rhs += *residual;
+      rhs *= -1.;
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          rhs[i] = unconstrained.diag_element(i) * d[i];
+    }
+
+    double
+    free_norm(const std::vector<bool> &is_join, const Vector<double> &v)
+    {
+      double sum = 0.;
+      for (unsigned int i = 0; i < v.size(); ++i)
+        if (!is_join[i])
+          sum += v[i] * v[i];
+      return std::sqrt(sum);
+    }
+  } // namespace ConstrainedSystem
 } // namespace softface

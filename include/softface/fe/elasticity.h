@@ -1,0 +1,93 @@
+#ifndef softface_fe_elasticity_h
+#define softface_fe_elasticity_h
+
+#include <deal.II/base/quadrature.h>
+#include <deal.II/base/tensor.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/mapping.h>
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/vector.h>
+
+#include <softface/core/scene.h>
+#include <softface/core/tetrahedron.h>
+#include <softface/fe/material_law.h>
+
+#include <array>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Elasticity kernels: what a tetrahedron contributes to the nodal forces
+   * and to their derivative. Two ways, one law (fe/material_law.h):
+   *  - P1 in closed form: on a linear tetrahedron F = I + sum_a u_a (x)
+   *    grad N_a is constant, so f_a = V P(F) grad N_a and the tangent
+   *    K_ab = V grad N_a . A . grad N_b need no quadrature. The linear FEM
+   *    stiffness (seed eqs. 6-8) is the linear law's tangent, and the mass
+   *    tensor model reads its 3x3 blocks (eqs. 9-10);
+   *  - by quadrature on any vector-valued element (the quadratic reference);
+   *    on P1 it reproduces the closed form (a test checks that).
+   */
+  namespace Elasticity
+  {
+    /// K[a][b]: the 3x3 block coupling vertex a's force to vertex b's
+    /// displacement (Cotin's K_ab^T, seed eq. 8).
+    using CellMatrix = std::array<std::array<Tensor<2, 3>, 4>, 4>;
+
+    /**
+     * K[a][b][i][k] = V sum_JL grad_a[J] A[i][J][k][L] grad_b[L] for a
+     * major-symmetric A (every hyperelastic law's), which makes the blocks
+     * K[b][a] = K[a][b]^T exactly.
+     */
+    CellMatrix
+    p1_tangent(const Tetrahedron::Geometry &tetrahedron, const Tensor<4, 3> &A);
+
+    /// The linear-elastic stiffness of a P1 tetrahedron (seed eq. 8).
+    CellMatrix
+    p1_stiffness(const Tetrahedron::Geometry &tetrahedron, const Lame &lame);
+
+    /// What one P1 tetrahedron contributes at vertex displacements u.
+    struct P1Response
+    {
+      std::array<Tensor<1, 3>, 4> force; ///< f_a = V P grad N_a
+      CellMatrix                  tangent;
+    };
+
+    /**
+     * Forces and, if @p with_tangent, the tangent of a P1 tetrahedron at
+     * vertex displacements @p u. Returns false if the law refuses F (det F
+     * <= 0 for a nonlinear law).
+     */
+    bool
+    p1_response(const MaterialLaw::Law             law,
+                const Lame                        &lame,
+                const Tetrahedron::Geometry       &tetrahedron,
+                const std::array<Tensor<1, 3>, 4> &u,
+                const bool                         with_tangent,
+                P1Response                        &response);
+
+    /// The unconstrained linear-elastic stiffness of the scene (P1, on the
+    /// shared layout; the matrix's sparsity is already set).
+    void
+    assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness);
+
+    /**
+     * Nodal forces (and, if @p tangent is not null, the tangent, assembled
+     * from zero) of the displacement @p u on any vector-valued element of
+     * @p dof_handler, by quadrature. Returns false if the law refuses F at a
+     * quadrature point.
+     */
+    bool
+    assemble(const MaterialLaw::Law law,
+             const Lame            &lame,
+             const Mapping<3>      &mapping,
+             const DoFHandler<3>   &dof_handler,
+             const Quadrature<3>   &quadrature,
+             const Vector<double>  &u,
+             Vector<double>        &forces,
+             SparseMatrix<double>  *tangent);
+  } // namespace Elasticity
+} // namespace softface
+
+#endif

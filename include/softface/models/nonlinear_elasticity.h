@@ -1,0 +1,110 @@
+#ifndef softface_models_nonlinear_elasticity_h
+#define softface_models_nonlinear_elasticity_h
+
+#include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
+
+#include <softface/fe/linear_solver.h>
+#include <softface/fe/material_law.h>
+#include <softface/fe/newton.h>
+#include <softface/models/interface.h>
+
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  namespace Models
+  {
+    /**
+     * What the large-deformation models share (seed 2.1, the full
+     * Green-Lagrange strain): the material law (fe/material_law.h), the
+     * load-stepped Newton iteration (fe/newton.h), the linear solves
+     * (fe/linear_solver.h, ML built on the stiffness at rest), and their
+     * parameters. A derived model provides the discretisation: its layout,
+     * which DoFs are join DoFs and how they follow the planning, and the
+     * forces and tangent at a displacement.
+     */
+    class NonlinearElasticity : public Interface
+    {
+    public:
+      /// The entries both nonlinear models declare in their subsection.
+      static void
+      declare_parameters(ParameterHandler &prm);
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      /// Set the main options in code (tests, benchmarks).
+      void
+      set_options(const std::string &law,
+                  const std::string &solver,
+                  const double       initial_increment = 1.);
+      /// Rebuild ML on the tangent after this many iterations of a solve.
+      void
+      set_amg_rebuild_iterations(const unsigned int iterations);
+
+      /**
+       * Internal nodal forces at @p u (all DoFs of the model's layout) and,
+       * if @p tangent is not null, the unconstrained tangent (on
+       * sparsity_pattern()). Returns false if a tetrahedron is inverted.
+       */
+      virtual bool
+      evaluate(const Vector<double> &u,
+               Vector<double>       &forces,
+               SparseMatrix<double> *tangent) const = 0;
+
+      const SparsityPattern &
+      sparsity_pattern() const;
+
+      /// The DoFs the model solves for.
+      unsigned int
+      n_dofs() const;
+
+      const LoadSteppedNewton::Report &
+      report() const;
+
+    protected:
+      explicit NonlinearElasticity(const std::string &name);
+
+      /**
+       * Build the layout: fill is_join and sparsity, and, for a layout other
+       * than the scene's, dof_points and dof_component (ML's rigid-body
+       * modes).
+       */
+      virtual void
+      setup_layout() = 0;
+      /// The join DoFs' motion on the layout for the vertex values
+      /// @p prescribed on the shared layout.
+      virtual void
+      join_motion(const Vector<double> &prescribed,
+                  Vector<double>       &motion) const = 0;
+      /// The vertex values (shared layout) of a solution @p u on the layout.
+      virtual void
+      vertex_values(const Vector<double> &u, Vector<double> &displacement) = 0;
+
+      void
+      do_setup(const Scene &scene) override;
+      void
+      do_solve(const Vector<double> &prescribed,
+               Vector<double>       &displacement) override;
+
+      const std::string model_name;
+      MaterialLaw::Law  law   = MaterialLaw::Law::neo_hooke;
+      const Scene      *scene = nullptr;
+
+      std::vector<bool>         is_join;
+      SparsityPattern           sparsity;
+      std::vector<Point<3>>     dof_points;
+      std::vector<unsigned int> dof_component;
+
+    private:
+      LoadSteppedNewton::Parameters newton_parameters;
+      LinearSolver::Parameters      solver_parameters;
+      LinearSolver                  linear_solver;
+      SparseMatrix<double>          tangent;
+      LoadSteppedNewton::Report     last_report;
+    };
+  } // namespace Models
+} // namespace softface
+
+#endif

@@ -1,0 +1,49 @@
+#ifndef softface_models_point_mesh_h
+#define softface_models_point_mesh_h
+
+#include <deal.II/base/point.h>
+
+#include <softface/core/scene.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  namespace Models
+  {
+    /**
+     * The scene seen as points and their neighbours, what the point-based
+     * models (mass tensor, mass spring) work on. Point p is the vertex whose
+     * DoFs on the shared layout are 3p, 3p+1, 3p+2 (deal.II's numbering of
+     * FESystem(FE_SimplexP(1), 3) unless renumbered), so a model's vector of
+     * point displacements is a displacement vector on the shared layout.
+     */
+    struct PointMesh
+    {
+      /// Throws an error naming @p model if the DoFs are not point blocks.
+      PointMesh(const Scene &scene, const std::string &model);
+
+      unsigned int
+      n_points() const;
+
+      /// Index into neighbour[] of the edge (j, k); k must be a neighbour.
+      unsigned int
+      edge_index(const unsigned int j, const unsigned int k) const;
+
+      /// The points of every tetrahedron, in the order of the mesh's cells.
+      std::vector<std::array<unsigned int, 4>> tetrahedra;
+      /// Reference positions.
+      std::vector<Point<3>> position;
+      /// False for join points.
+      std::vector<bool> is_free;
+      /// The neighbours of point j, ascending, are neighbour[row_start[j]
+      /// .. row_start[j + 1]) (every point sharing a tetrahedron with j).
+      std::vector<unsigned int> row_start;
+      std::vector<unsigned int> neighbour;
+    };
+  } // namespace Models
+} // namespace softface
+
+#endif

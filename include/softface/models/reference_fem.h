@@ -1,0 +1,82 @@
+#ifndef softface_models_reference_fem_h
+#define softface_models_reference_fem_h
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+
+#include <softface/models/nonlinear_elasticity.h>
+
+#include <array>
+#include <memory>
+#include <utility>
+#include <vector>
+
+namespace softface
+{
+  namespace Models
+  {
+    /**
+     * The accuracy reference: the nonlinear FEM equations (or, with
+     * 'Material law = linear', linear elasticity's) on quadratic tetrahedra
+     * (FE_SimplexP<3>(2), forces and tangent by quadrature) on a layout of
+     * the model's own, about eight times the shared layout's DoFs; solved by
+     * the same load-stepped Newton iteration as 'nonlinear fem'. Converged
+     * on fine meshes it is what the accuracy benchmark measures every model
+     * against; with the linear law it separates linear elasticity's model
+     * error from P1's discretisation error.
+     *
+     * A DoF is a join DoF if it lies on a bone segment's cell or boundary
+     * face; it follows the segment's rigid motion, which is affine, so its
+     * value is the linear interpolation of the cell's vertex values. solve()
+     * returns the vertex values; displacement_field() gives the whole field.
+     */
+    class ReferenceFEM : public NonlinearElasticity
+    {
+    public:
+      ReferenceFEM();
+
+      static void
+      declare_parameters(ParameterHandler &prm);
+      void
+      parse_parameters(ParameterHandler &prm) override;
+
+      /// The polynomial degree in code (tests).
+      void
+      set_degree(const unsigned int degree);
+
+      bool
+      evaluate(const Vector<double> &u,
+               Vector<double>       &forces,
+               SparseMatrix<double> *tangent) const override;
+
+      /// The whole field after solve().
+      std::pair<const DoFHandler<3> *, const Vector<double> *>
+      displacement_field() const override;
+
+    protected:
+      void
+      setup_layout() override;
+      void
+      join_motion(const Vector<double> &prescribed,
+                  Vector<double>       &motion) const override;
+      void
+      vertex_values(const Vector<double> &u,
+                    Vector<double>       &displacement) override;
+
+    private:
+      unsigned int degree = 2;
+
+      std::unique_ptr<FESystem<3>>   fe;
+      std::unique_ptr<DoFHandler<3>> dof_handler;
+      /// Each DoF's value as a combination of its cell's vertex DoFs on the
+      /// shared layout (for the prescribed motion).
+      std::vector<std::array<std::pair<types::global_dof_index, double>, 4>>
+        from_vertex_dofs;
+      /// The DoF at each vertex DoF of the shared layout.
+      std::vector<types::global_dof_index> at_vertex_dof;
+      Vector<double>                       solution;
+    };
+  } // namespace Models
+} // namespace softface
+
+#endif

@@ -1,0 +1,184 @@
+// Elasticity kernels (fe): the P1 closed forms (forces, tangent, the linear
+// stiffness that linear FEM and the mass tensor model share) and assembly by
+// quadrature on any element (the quadratic reference), all contracting the
+// one material law of fe/material_law.cc.
+
+#include <deal.II/dofs/dof_accessor.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/lac/full_matrix.h>
+
+#include <softface/fe/constrained_system.h>
+#include <softface/fe/elasticity.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace softface
+{
+  namespace Elasticity
+  {
+    CellMatrix
+    p1_tangent(const Tetrahedron::Geometry &tetrahedron, const Tensor<4, 3> &A)
+    {
+      const auto  &grad   = tetrahedron.gradients;
+      const double volume = tetrahedron.volume;
+      // G[a][i][k][L] = V sum_J grad_a[J] A[i][J][k][L], then one product
+      // with grad_b per block.
+      std::array<Tensor<3, 3>, 4> G;
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int J = 0; J < 3; ++J)
+            G[a][i] += (volume * grad[a][J]) * A[i][J];
+      CellMatrix K;
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int b = a; b < 4; ++b)
+          {
+            for (unsigned int i = 0; i < 3; ++i)
+              K[a][b][i] = G[a][i] * grad[b];
+            if (b != a)
+              K[b][a] = transpose(K[a][b]);
+          }
+      return K;
+    }
+
+    CellMatrix
+    p1_stiffness(const Tetrahedron::Geometry &tetrahedron, const Lame &lame)
+    {
+      Tensor<2, 3> P;
+      Tensor<4, 3> A;
+      MaterialLaw::first_piola_kirchhoff(
+        MaterialLaw::Law::linear, lame, unit_symmetric_tensor<3>(), P, &A);
+      return p1_tangent(tetrahedron, A);
+    }
+
+    bool
+    p1_response(const MaterialLaw::Law             law,
+                const Lame                        &lame,
+                const Tetrahedron::Geometry       &tetrahedron,
+                const std::array<Tensor<1, 3>, 4> &u,
+                const bool                         with_tangent,
+                P1Response                        &response)
+    {
+      Tensor<2, 3> F = unit_symmetric_tensor<3>();
+      for (unsigned int a = 0; a < 4; ++a)
+        F += outer_product(u[a], tetrahedron.gradients[a]);
+      Tensor<2, 3> P;
+      Tensor<4, 3> A;
+      if (!MaterialLaw::first_piola_kirchhoff(
+            law, lame, F, P, with_tangent ? &A : nullptr))
+        return false;
+      for (unsigned int a = 0; a < 4; ++a)
+        response.force[a] = tetrahedron.volume * (P * tetrahedron.gradients[a]);
+      if (with_tangent)
+        response.tangent = p1_tangent(tetrahedron, A);
+      return true;
+    }
+
+    void
+    assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
+    {
+      const Lame lame = scene.material.lame();
+      stiffness       = 0;
+      for (const auto &cell : scene.triangulation.active_cell_iterators())
+        ConstrainedSystem::add_cell_matrix(
+          ConstrainedSystem::cell_dofs(scene, cell),
+          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)),
+                       lame),
+          stiffness);
+    }
+
+    bool
+    assemble(const MaterialLaw::Law law,
+             const Lame            &lame,
+             const Mapping<3>      &mapping,
+             const DoFHandler<3>   &dof_handler,
+             const Quadrature<3>   &quadrature,
+             const Vector<double>  &u,
+             Vector<double>        &forces,
+             SparseMatrix<double>  *tangent)
+    {
+      const FiniteElement<3>              &fe = dof_handler.get_fe();
+      FEValues<3>                          fe_values(mapping,
+                            fe,
+                            quadrature,
+                            update_gradients | update_JxW_values);
+      const unsigned int                   n = fe.n_dofs_per_cell();
+      std::vector<types::global_dof_index> dofs(n);
+      std::vector<unsigned int>            component(n);
+      for (unsigned int i = 0; i < n; ++i)
+        component[i] = fe.system_to_component_index(i).first;
+      std::vector<double>       u_cell(n);
+      std::vector<Tensor<1, 3>> grad(n);
+      Vector<double>            f_cell(n);
+      FullMatrix<double>        K_cell(n, n);
+      Tensor<2, 3>              P;
+      Tensor<4, 3>              A;
+      // Rows go into the matrix with sorted columns: SparseMatrix::add then
+      // merges along the row instead of searching it for every entry.
+      std::vector<unsigned int>            order(n);
+      std::vector<types::global_dof_index> sorted_dofs(n);
+      std::vector<double>                  row(n);
+
+      forces.reinit(u.size());
+      if (tangent != nullptr)
+        *tangent = 0;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < n; ++i)
+            u_cell[i] = u[dofs[i]];
+          f_cell = 0;
+          K_cell = 0;
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
+            {
+              Tensor<2, 3> F = unit_symmetric_tensor<3>();
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  grad[i] = fe_values.shape_grad(i, q);
+                  F[component[i]] += u_cell[i] * grad[i];
+                }
+              if (!MaterialLaw::first_piola_kirchhoff(
+                    law, lame, F, P, tangent != nullptr ? &A : nullptr))
+                return false;
+              const double JxW = fe_values.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                f_cell[i] += (P[component[i]] * grad[i]) * JxW;
+              if (tangent == nullptr)
+                continue;
+              // K_ij = grad_i . A[c_i][.][c_j][.] . grad_j, contracted with
+              // grad_i first so that the inner loop is three products.
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  Tensor<2, 3> G; // G[k][L] = grad_i[J] A[c_i][J][k][L]
+                  for (unsigned int J = 0; J < 3; ++J)
+                    G += grad[i][J] * A[component[i]][J];
+                  G *= JxW;
+                  for (unsigned int j = 0; j < n; ++j)
+                    K_cell(i, j) += G[component[j]] * grad[j];
+                }
+            }
+          for (unsigned int i = 0; i < n; ++i)
+            forces[dofs[i]] += f_cell[i];
+          if (tangent == nullptr)
+            continue;
+          std::iota(order.begin(), order.end(), 0u);
+          std::sort(order.begin(),
+                    order.end(),
+                    [&](unsigned int i, unsigned int j) {
+                      return dofs[i] < dofs[j];
+                    });
+          for (unsigned int k = 0; k < n; ++k)
+            sorted_dofs[k] = dofs[order[k]];
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              for (unsigned int k = 0; k < n; ++k)
+                row[k] = K_cell(i, order[k]);
+              tangent->add(
+                dofs[i], n, sorted_dofs.data(), row.data(), false, true);
+            }
+        }
+      return true;
+    }
+  } // namespace Elasticity
+} // namespace softface

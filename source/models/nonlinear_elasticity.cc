@@ -1,0 +1,180 @@
+// What the nonlinear FEM models share (models): their parameters, the setup
+// of the linear solver on the stiffness at rest, and the load-stepped Newton
+// solve of a planning; the discretisations live in nonlinear_fem.cc (P1) and
+// reference_fem.cc (quadrature, quadratic tetrahedra).
+
+#include <softface/core/error.h>
+#include <softface/fe/constrained_system.h>
+#include <softface/models/nonlinear_elasticity.h>
+
+namespace softface
+{
+  namespace Models
+  {
+    NonlinearElasticity::NonlinearElasticity(const std::string &name)
+        : model_name(name)
+    {
+      solver_parameters.method                 = "cg amg";
+      solver_parameters.relative_tolerance     = 1e-6;
+      solver_parameters.max_iterations         = 2000;
+      solver_parameters.amg_rebuild_iterations = 100;
+    }
+
+    void
+    NonlinearElasticity::declare_parameters(ParameterHandler &prm)
+    {
+      prm.declare_entry("Material law",
+                        "neo-hooke",
+                        Patterns::Selection(MaterialLaw::selection()),
+                        "'st venant-kirchhoff' (the seed's, and CalculiX's "
+                        "*ELASTIC with NLGEOM; softens under strong "
+                        "compression), compressible 'neo-hooke' (stiffens "
+                        "under compression), or 'linear': linear FEM's "
+                        "small-strain equations solved with this model's "
+                        "machinery. Lame parameters from Young's modulus and "
+                        "Poisson's ratio as for the linear models.");
+      prm.declare_entry("Solver",
+                        "cg amg",
+                        Patterns::Selection("direct|cg amg|gmres amg"),
+                        "Linear solver of each Newton iteration: 'direct' "
+                        "(CHOLMOD, ordering reused), 'cg amg' or 'gmres amg' "
+                        "(Trilinos ML on the stiffness at rest; rebuilt on the "
+                        "tangent when a solve gets slow). CG stops when it "
+                        "meets negative curvature (the tangent is not "
+                        "positive definite) and the load step is cut back, "
+                        "as when the direct solver's factorisation fails.");
+      LoadSteppedNewton::Parameters::declare_parameters(prm);
+      prm.declare_entry("Linear tolerance",
+                        "1e-6",
+                        Patterns::Double(0., 1.),
+                        "Relative residual of the iterative linear solves "
+                        "inside Newton.");
+      prm.declare_entry("Maximum linear iterations",
+                        "2000",
+                        Patterns::Integer(1),
+                        "An iterative linear solve inside Newton that needs "
+                        "more iterations fails, and the load step is cut "
+                        "back.");
+      LinearSolver::Parameters defaults;
+      defaults.amg_rebuild_iterations = 100;
+      defaults.declare_tuning_parameters(prm, true);
+    }
+
+    void
+    NonlinearElasticity::parse_parameters(ParameterHandler &prm)
+    {
+      law = MaterialLaw::from_name(prm.get("Material law"));
+      solver_parameters.method = prm.get("Solver");
+      newton_parameters.parse_parameters(prm, model_name);
+      solver_parameters.relative_tolerance = prm.get_double("Linear tolerance");
+      solver_parameters.max_iterations =
+        prm.get_integer("Maximum linear iterations");
+      solver_parameters.parse_tuning_parameters(prm, true);
+    }
+
+    void
+    NonlinearElasticity::set_options(const std::string &law_name,
+                                     const std::string &solver,
+                                     const double       increment)
+    {
+      law                                 = MaterialLaw::from_name(law_name);
+      solver_parameters.method            = solver;
+      newton_parameters.initial_increment = increment;
+    }
+
+    void
+    NonlinearElasticity::set_amg_rebuild_iterations(
+      const unsigned int iterations)
+    {
+      solver_parameters.amg_rebuild_iterations = iterations;
+    }
+
+    void
+    NonlinearElasticity::do_setup(const Scene &scene_in)
+    {
+      scene = &scene_in;
+      dof_points.clear();
+      dof_component.clear();
+      setup_layout();
+      tangent.reinit(sparsity);
+      set_n_dofs(is_join.size());
+
+      const auto timed = phase("preconditioner");
+      if (dof_points.empty())
+        linear_solver.initialize(solver_parameters, *scene);
+      else
+        linear_solver.initialize(solver_parameters, dof_points, dof_component);
+      if (solver_parameters.method != "direct")
+        {
+          // ML is built once, on the tangent at rest (every law's is the
+          // linear stiffness): close enough to the later tangents, and
+          // rebuilt when a solve says otherwise.
+          Vector<double> zero(is_join.size()), forces;
+          evaluate(zero, forces, &tangent);
+          ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+          linear_solver.build_amg(tangent);
+        }
+    }
+
+    void
+    NonlinearElasticity::do_solve(const Vector<double> &prescribed,
+                                  Vector<double>       &displacement)
+    {
+      Assert(scene != nullptr, ExcMessage("setup() first."));
+      Vector<double> motion(is_join.size()), u;
+      join_motion(prescribed, motion);
+
+      const std::string description = model_name + " (" +
+                                      MaterialLaw::name(law) + ", " +
+                                      solver_parameters.method + ")";
+      const std::string hint =
+        law == MaterialLaw::Law::st_venant_kirchhoff ?
+          " St. Venant-Kirchhoff softens under strong compression and may "
+          "have no equilibrium here; 'Material law = neo-hooke' does." :
+          "";
+      LoadSteppedNewton newton(
+        newton_parameters,
+        [this](const Vector<double> &v,
+               Vector<double>       &forces,
+               SparseMatrix<double> *matrix) {
+          return evaluate(v, forces, matrix);
+        },
+        tangent,
+        is_join,
+        linear_solver);
+      last_report =
+        newton.solve(motion, u, timer(), progress, description, hint);
+      vertex_values(u, displacement);
+
+      set_iterations(last_report.newton_iterations);
+      set_residual(last_report.final_residual);
+      add_detail("load steps", last_report.load_steps);
+      add_detail("cut-backs", last_report.cutbacks);
+      std::string per_step;
+      for (const unsigned int i : last_report.iterations_per_step)
+        per_step += (per_step.empty() ? "" : "/") + std::to_string(i);
+      add_detail("Newton iterations per step", per_step);
+      add_detail("linear iterations", last_report.linear_iterations);
+      if (solver_parameters.method != "direct")
+        add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    const SparsityPattern &
+    NonlinearElasticity::sparsity_pattern() const
+    {
+      return sparsity;
+    }
+
+    unsigned int
+    NonlinearElasticity::n_dofs() const
+    {
+      return is_join.size();
+    }
+
+    const LoadSteppedNewton::Report &
+    NonlinearElasticity::report() const
+    {
+      return last_report;
+    }
+  } // namespace Models
+} // namespace softface

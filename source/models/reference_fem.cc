@@ -1,0 +1,172 @@
+// The reference model (models): the nonlinear FEM equations on quadratic
+// tetrahedra on a layout of its own, by quadrature; the accuracy benchmark's
+// converged answer. The Newton solve is NonlinearElasticity's.
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_accessor.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
+#include <softface/fe/elasticity.h>
+#include <softface/models/reference_fem.h>
+
+namespace softface
+{
+  namespace Models
+  {
+    ReferenceFEM::ReferenceFEM()
+        : NonlinearElasticity("reference fem")
+    {}
+
+    void
+    ReferenceFEM::declare_parameters(ParameterHandler &prm)
+    {
+      NonlinearElasticity::declare_parameters(prm);
+      prm.declare_entry("Polynomial degree",
+                        "2",
+                        Patterns::Integer(1, 2),
+                        "Degree of the tetrahedra: 2 (quadratic, the "
+                        "reference) or 1 (the nonlinear FEM model's "
+                        "discretisation, here by quadrature: a cross-check).");
+    }
+
+    void
+    ReferenceFEM::parse_parameters(ParameterHandler &prm)
+    {
+      NonlinearElasticity::parse_parameters(prm);
+      degree = prm.get_integer("Polynomial degree");
+    }
+
+    void
+    ReferenceFEM::set_degree(const unsigned int d)
+    {
+      degree = d;
+    }
+
+    void
+    ReferenceFEM::setup_layout()
+    {
+      const auto timed = phase("layout");
+      fe          = std::make_unique<FESystem<3>>(FE_SimplexP<3>(degree), 3);
+      dof_handler = std::make_unique<DoFHandler<3>>(scene->triangulation);
+      dof_handler->distribute_dofs(*fe);
+      const unsigned int n = dof_handler->n_dofs();
+
+      // Join DoFs: every DoF of a segment's cell and of its boundary faces,
+      // and the DoFs at join vertices. The support points serve ML's
+      // rigid-body modes.
+      const auto        &unit_points = fe->get_unit_support_points();
+      const unsigned int n_cell      = fe->n_dofs_per_cell();
+      is_join.assign(n, false);
+      from_vertex_dofs.resize(n);
+      at_vertex_dof.assign(scene->dof_handler.n_dofs(),
+                           numbers::invalid_dof_index);
+      dof_points.resize(n);
+      dof_component.resize(n);
+      std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
+      for (const auto &cell : dof_handler->active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          bool bone_cell = false;
+          for (const auto &segment : scene->segments)
+            bone_cell |= segment.material_ids.count(cell->material_id()) > 0;
+          for (unsigned int i = 0; i < n_cell; ++i)
+            {
+              const unsigned int c  = fe->system_to_component_index(i).first;
+              const Point<3>    &xi = unit_points[i];
+              const std::array<double, 4> weight = {
+                {1. - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]}};
+              Point<3> x;
+              for (unsigned int a = 0; a < 4; ++a)
+                {
+                  const auto vertex_dof =
+                    scene->vertex_dofs()[cell->vertex_index(a)][c];
+                  from_vertex_dofs[dofs[i]][a] = {vertex_dof, weight[a]};
+                  x += weight[a] * cell->vertex(a);
+                  if (weight[a] == 1.)
+                    {
+                      at_vertex_dof[vertex_dof] = dofs[i];
+                      if (scene->join_dofs()[vertex_dof])
+                        is_join[dofs[i]] = true;
+                    }
+                }
+              dof_points[dofs[i]]    = x;
+              dof_component[dofs[i]] = c;
+              if (bone_cell)
+                is_join[dofs[i]] = true;
+            }
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              for (const auto &segment : scene->segments)
+                if (segment.boundary_ids.count(cell->face(f)->boundary_id()))
+                  {
+                    face_dofs.resize(fe->n_dofs_per_face(f));
+                    cell->face(f)->get_dof_indices(face_dofs);
+                    for (const auto i : face_dofs)
+                      is_join[i] = true;
+                  }
+        }
+
+      DynamicSparsityPattern dsp(n, n);
+      DoFTools::make_sparsity_pattern(*dof_handler, dsp);
+      sparsity.copy_from(dsp);
+      add_detail("degree", degree);
+    }
+
+    bool
+    ReferenceFEM::evaluate(const Vector<double> &u,
+                           Vector<double>       &forces,
+                           SparseMatrix<double> *tangent) const
+    {
+      // A 3-point-per-direction rule: exact for the quadratic element's
+      // linear stiffness and accurate for its nonlinear terms.
+      return Elasticity::assemble(law,
+                                  scene->material.lame(),
+                                  scene->mapping,
+                                  *dof_handler,
+                                  QGaussSimplex<3>(3),
+                                  u,
+                                  forces,
+                                  tangent);
+    }
+
+    void
+    ReferenceFEM::join_motion(const Vector<double> &prescribed,
+                              Vector<double>       &motion) const
+    {
+      motion.reinit(is_join.size());
+      for (unsigned int i = 0; i < is_join.size(); ++i)
+        if (is_join[i])
+          for (const auto &[vertex_dof, weight] : from_vertex_dofs[i])
+            motion[i] += weight * prescribed[vertex_dof];
+    }
+
+    void
+    ReferenceFEM::vertex_values(const Vector<double> &u,
+                                Vector<double>       &displacement)
+    {
+      solution = u;
+      displacement.reinit(scene->dof_handler.n_dofs());
+      for (unsigned int i = 0; i < displacement.size(); ++i)
+        if (at_vertex_dof[i] != numbers::invalid_dof_index)
+          displacement[i] = u[at_vertex_dof[i]];
+    }
+
+    std::pair<const DoFHandler<3> *, const Vector<double> *>
+    ReferenceFEM::displacement_field() const
+    {
+      if (solution.size() > 0)
+        return {dof_handler.get(), &solution};
+      return {nullptr, nullptr};
+    }
+
+    SOFTFACE_REGISTER_MODEL(ReferenceFEM,
+                            "reference fem",
+                            "The nonlinear FEM equations on quadratic "
+                            "tetrahedra (by quadrature, on a layout of its "
+                            "own): the accuracy benchmark's reference.")
+  } // namespace Models
+} // namespace softface

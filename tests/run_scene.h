@@ -1,0 +1,50 @@
+#ifndef softface_tests_run_scene_h
+#define softface_tests_run_scene_h
+
+// Scene tests: run a tests/<name>.prm through the whole simulator and print
+// what it reports without timings (the side-by-side table, the comparison,
+// each model's figures, warnings and errors) and its exit code, so that
+// numdiff compares every figure with tests/<name>.output.
+
+#include <softface/simulator/report.h>
+#include <softface/simulator/simulator.h>
+
+#include "tests.h"
+
+#include <sstream>
+#include <string>
+
+namespace softface_tests
+{
+  using namespace softface;
+
+  /// Each line of @p text to deallog.
+  inline void
+  log_lines(const std::string &text)
+  {
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);)
+      if (!line.empty())
+        deallog << line << std::endl;
+  }
+
+  /// Run @p prm_file (a path) and print the report and what went to
+  /// stderr; returns the exit code.
+  inline int
+  run_scene(Simulator &simulator, const std::string &prm_file)
+  {
+    std::ostringstream out, err;
+    const int          exit_code = simulator.run(prm_file, out, err);
+    std::ostringstream report;
+    Report::print(simulator.scene(),
+                  simulator.runs(),
+                  simulator.reference_model(),
+                  false,
+                  report);
+    log_lines(report.str());
+    log_lines(err.str());
+    return exit_code;
+  }
+} // namespace softface_tests
+
+#endif
