@@ -1,15 +1,32 @@
+// Reads VTK XML UnstructuredGrid (.vtu) mesh files for Scene's "Mesh file",
+// as ParaView, VTK, meshio or a parallel writer save them: the XML is parsed
+// with Boost.PropertyTree, the DataArrays are decoded from ascii, base64 or
+// raw appended bytes (zlib or not), and every <Piece> is merged into one
+// tetrahedral triangulation. Called by io/mesh_reader.cc for every .vtu that
+// is not deal.II's own serialisation. Whatever cannot be read completely is
+// refused with one softface::Error.
+
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
 
 #include <softface/core/error.h>
 #include <softface/io/vtu_reader.h>
 
+#include <boost/property_tree/ptree.hpp>
+#include <boost/property_tree/xml_parser.hpp>
+
 #include <zlib.h>
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <map>
+#include <iomanip>
+#include <iterator>
+#include <numeric>
 #include <sstream>
 
 namespace softface
@@ -18,31 +35,94 @@ namespace softface
   {
     namespace
     {
-      struct DataArray
-      {
-        std::map<std::string, std::string> attributes;
-        std::string                        text; // between the tags
-      };
+      using boost::property_tree::ptree;
 
-      std::map<std::string, std::string>
-      parse_attributes(const std::string &tag)
+      // VTK files nest five elements deep; the XML parser recurses once per
+      // level, so a hostile file nested much deeper would overflow the stack.
+      constexpr unsigned int max_xml_depth = 64;
+
+      // Deflate shrinks data by at most about 1032:1: a zlib block header
+      // that claims more is corrupt, and nothing is allocated for it.
+      constexpr std::uint64_t max_zlib_ratio = 1032;
+
+      std::string
+      number_text(const double value)
       {
-        std::map<std::string, std::string> attributes;
-        std::size_t                        p = 0;
-        while ((p = tag.find('=', p)) != std::string::npos)
+        std::ostringstream s;
+        s << std::setprecision(15) << value;
+        return s.str();
+      }
+
+      std::string
+      attribute(const ptree       &node,
+                const std::string &name,
+                const std::string &fallback = "")
+      {
+        return node.get("<xmlattr>." + name, fallback);
+      }
+
+      std::uint64_t
+      whole_number(const std::string &text, const std::string &what)
+      {
+        if (text.empty())
+          throw Error(what + " is missing");
+        std::uint64_t value  = 0;
+        const char   *end    = text.data() + text.size();
+        const auto    result = std::from_chars(text.data(), end, value);
+        if (result.ec != std::errc() || result.ptr != end)
+          throw Error(what + " '" + text + "' is not a whole number");
+        return value;
+      }
+
+      bool
+      is_index(const double value, const double limit)
+      {
+        return value >= 0 && value < limit && value == std::floor(value);
+      }
+
+      // The end ('>') of the tag that starts at @p begin, skipping quoted
+      // attribute values.
+      std::size_t
+      end_of_tag(const std::string &text, const std::size_t begin)
+      {
+        char quote = 0;
+        for (std::size_t i = begin; i < text.size(); ++i)
+          if (quote != 0)
+            quote = (text[i] == quote) ? 0 : quote;
+          else if (text[i] == '"' || text[i] == '\'')
+            quote = text[i];
+          else if (text[i] == '>')
+            return i;
+        return std::string::npos;
+      }
+
+      void
+      check_nesting(const std::string &xml)
+      {
+        unsigned int depth = 0;
+        std::size_t  i     = xml.find('<');
+        while (i != std::string::npos)
           {
-            std::size_t name_end = p, name_begin = p;
-            while (name_begin > 0 && !std::isspace(tag[name_begin - 1]))
-              --name_begin;
-            const char        quote = tag[p + 1];
-            const std::size_t close = tag.find(quote, p + 2);
-            if ((quote != '"' && quote != '\'') || close == std::string::npos)
-              break;
-            attributes[tag.substr(name_begin, name_end - name_begin)] =
-              tag.substr(p + 2, close - p - 2);
-            p = close + 1;
+            const char  next = (i + 1 < xml.size()) ? xml[i + 1] : 0;
+            std::size_t end;
+            if (xml.compare(i, 4, "<!--") == 0)
+              end = xml.find("-->", i);
+            else if (xml.compare(i, 9, "<![CDATA[") == 0)
+              end = xml.find("]]>", i);
+            else
+              {
+                end = end_of_tag(xml, i);
+                if (end == std::string::npos)
+                  break; // the parser says what is wrong
+                if (next == '/')
+                  depth -= (depth > 0);
+                else if (next != '!' && next != '?' && xml[end - 1] != '/' &&
+                         ++depth > max_xml_depth)
+                  throw Error("its XML is nested more than " +
+                              std::to_string(max_xml_depth) + " levels deep");
+              }
+            i = (end == std::string::npos) ? end : xml.find('<', end);
           }
-        return attributes;
       }
 
       // Decodes quantum by quantum, so that several concatenated base64
@@ -51,69 +131,115 @@ namespace softface
       std::vector<unsigned char>
       decode_base64(const std::string &text)
       {
-        static const std::string alphabet =
-          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
         std::vector<unsigned char> bytes;
-        int                        quantum[4], n = 0;
+        bytes.reserve(text.size() / 4 * 3);
+        int quantum[4], n = 0;
         for (const char c : text)
           {
-            if (std::isspace(c))
+            int digit;
+            if (c >= 'A' && c <= 'Z')
+              digit = c - 'A';
+            else if (c >= 'a' && c <= 'z')
+              digit = c - 'a' + 26;
+            else if (c >= '0' && c <= '9')
+              digit = c - '0' + 52;
+            else if (c == '+' || c == '/')
+              digit = (c == '+') ? 62 : 63;
+            else if (c == '=')
+              digit = -1;
+            else if (std::isspace(static_cast<unsigned char>(c)))
               continue;
-            const std::size_t digit = alphabet.find(c);
-            if (c != '=' && digit == std::string::npos)
-              throw Error("invalid base64 character");
-            quantum[n++] = (c == '=') ? -1 : int(digit);
+            else
+              throw Error("invalid base64 character '" + std::string(1, c) +
+                          "'");
+            quantum[n++] = digit;
             if (n < 4)
               continue;
-            n                    = 0;
+            n = 0;
+            if (quantum[0] < 0 || quantum[1] < 0 ||
+                (quantum[2] < 0 && quantum[3] >= 0))
+              throw Error("corrupt base64 padding");
             const unsigned int v = (quantum[0] << 18) | (quantum[1] << 12) |
-                                   ((quantum[2] < 0 ? 0 : quantum[2]) << 6) |
-                                   (quantum[3] < 0 ? 0 : quantum[3]);
+                                   (std::max(quantum[2], 0) << 6) |
+                                   std::max(quantum[3], 0);
             bytes.push_back((v >> 16) & 0xff);
             if (quantum[2] >= 0)
               bytes.push_back((v >> 8) & 0xff);
             if (quantum[3] >= 0)
               bytes.push_back(v & 0xff);
           }
+        if (n != 0)
+          throw Error("truncated base64 data");
         return bytes;
       }
 
-      std::size_t
-      size_of(const std::string &type)
+      std::vector<double>
+      parse_ascii(const std::string &text)
       {
-        if (type == "Int8" || type == "UInt8")
-          return 1;
-        if (type == "Int16" || type == "UInt16")
-          return 2;
-        if (type == "Int32" || type == "UInt32" || type == "Float32")
-          return 4;
-        if (type == "Int64" || type == "UInt64" || type == "Float64")
-          return 8;
-        throw Error("unknown DataArray type '" + type + "'");
+        std::vector<double> values;
+        const char *p = text.data(), *const end = p + text.size();
+        const auto space = [](const char c) {
+          return std::isspace(static_cast<unsigned char>(c)) != 0;
+        };
+        while ((p = std::find_if_not(p, end, space)) != end)
+          {
+            const char *const token_end = std::find_if(p, end, space);
+            double            value;
+            const auto        result =
+              std::from_chars(p + (*p == '+'), token_end, value);
+            if (result.ec != std::errc() || result.ptr != token_end)
+              throw Error(
+                "'" + std::string(p, std::min<std::size_t>(token_end - p, 24)) +
+                "' is not a number");
+            values.push_back(value);
+            p = token_end;
+          }
+        return values;
       }
 
-      double
-      value_at(const unsigned char *p, const std::string &type)
+      template <typename T>
+      std::vector<double>
+      values_from(const std::vector<unsigned char> &bytes,
+                  const std::string                &type)
       {
-#define SOFTFACE_VTU_TYPE(name, ctype) \
-  if (type == name)                    \
-    {                                  \
-      ctype v;                         \
-      std::memcpy(&v, p, sizeof(v));   \
-      return static_cast<double>(v);   \
-    }
-        SOFTFACE_VTU_TYPE("Int8", std::int8_t)
-        SOFTFACE_VTU_TYPE("UInt8", std::uint8_t)
-        SOFTFACE_VTU_TYPE("Int16", std::int16_t)
-        SOFTFACE_VTU_TYPE("UInt16", std::uint16_t)
-        SOFTFACE_VTU_TYPE("Int32", std::int32_t)
-        SOFTFACE_VTU_TYPE("UInt32", std::uint32_t)
-        SOFTFACE_VTU_TYPE("Int64", std::int64_t)
-        SOFTFACE_VTU_TYPE("UInt64", std::uint64_t)
-        SOFTFACE_VTU_TYPE("Float32", float)
-        SOFTFACE_VTU_TYPE("Float64", double)
-#undef SOFTFACE_VTU_TYPE
-        throw Error("unknown DataArray type '" + type + "'");
+        if (bytes.size() % sizeof(T) != 0)
+          throw Error(std::to_string(bytes.size()) +
+                      " bytes are not a whole number of " + type + " values");
+        std::vector<double> values(bytes.size() / sizeof(T));
+        for (std::size_t i = 0; i < values.size(); ++i)
+          {
+            T value;
+            std::memcpy(&value, bytes.data() + i * sizeof(T), sizeof(T));
+            values[i] = static_cast<double>(value);
+          }
+        return values;
+      }
+
+      std::vector<double>
+      values_from(const std::vector<unsigned char> &bytes,
+                  const std::string                &type)
+      {
+        if (type == "Int8")
+          return values_from<std::int8_t>(bytes, type);
+        if (type == "UInt8")
+          return values_from<std::uint8_t>(bytes, type);
+        if (type == "Int16")
+          return values_from<std::int16_t>(bytes, type);
+        if (type == "UInt16")
+          return values_from<std::uint16_t>(bytes, type);
+        if (type == "Int32")
+          return values_from<std::int32_t>(bytes, type);
+        if (type == "UInt32")
+          return values_from<std::uint32_t>(bytes, type);
+        if (type == "Int64")
+          return values_from<std::int64_t>(bytes, type);
+        if (type == "UInt64")
+          return values_from<std::uint64_t>(bytes, type);
+        if (type == "Float32")
+          return values_from<float>(bytes, type);
+        if (type == "Float64")
+          return values_from<double>(bytes, type);
+        throw Error("its type '" + type + "' is not a VTK number type");
       }
 
       class VtuFile
@@ -121,173 +247,427 @@ namespace softface
       public:
         explicit VtuFile(const std::string &filename)
         {
-          std::ifstream      in(filename, std::ios::binary);
-          std::ostringstream s;
-          s << in.rdbuf();
-          content = s.str();
+          std::ifstream in(filename, std::ios::binary);
+          if (!in)
+            throw Error("it cannot be opened");
+          content.assign(std::istreambuf_iterator<char>(in),
+                         std::istreambuf_iterator<char>());
 
-          const auto file_tag = tag_attributes("<VTKFile");
-          if (file_tag.count("type") == 0 ||
-              file_tag.at("type") != "UnstructuredGrid")
-            throw Error("not a VTK UnstructuredGrid file");
-          compressed =
-            file_tag.count("compressor") && !file_tag.at("compressor").empty();
-          if (compressed &&
-              file_tag.at("compressor") != "vtkZLibDataCompressor")
-            throw Error("compressor '" + file_tag.at("compressor") +
-                        "' is not supported (only zlib)");
-          header_type = file_tag.count("header_type") ?
-                          file_tag.at("header_type") :
-                          "UInt32";
-          if (file_tag.count("byte_order") &&
-              file_tag.at("byte_order") != "LittleEndian")
-            throw Error("only LittleEndian files are supported");
-
+          // Raw appended bytes are no XML: the parser gets the file without
+          // what lies between <AppendedData ...> and </AppendedData>, and
+          // appended arrays are decoded from the file's bytes.
+          std::string       xml;
           const std::size_t appended = content.find("<AppendedData");
-          if (appended != std::string::npos)
+          if (appended == std::string::npos)
+            xml.swap(content);
+          else
             {
-              const auto attributes = parse_attributes(
-                content.substr(appended,
-                               content.find('>', appended) - appended));
-              if (attributes.count("encoding") &&
-                  attributes.at("encoding") != "raw")
-                throw Error("appended data must be raw-encoded (save as "
-                            "'binary' or 'ascii' otherwise)");
-              appended_start = content.find('_', appended) + 1;
-              xml_end        = appended;
-            }
-        }
-
-        std::map<std::string, std::string>
-        tag_attributes(const std::string &tag) const
-        {
-          const std::size_t p = content.find(tag);
-          if (p == std::string::npos)
-            throw Error("no " + tag.substr(1) + " element");
-          return parse_attributes(content.substr(p, content.find('>', p) - p));
-        }
-
-        // The DataArrays inside the first <section> ... </section>.
-        std::vector<DataArray>
-        arrays_in(const std::string &section) const
-        {
-          std::vector<DataArray> arrays;
-          // Only the XML part is searched: raw appended bytes may hold
-          // anything.
-          const std::size_t begin = content.find("<" + section);
-          if (begin == std::string::npos || begin >= xml_end)
-            return arrays;
-          const std::size_t end = content.find("</" + section, begin);
-          std::size_t       p   = begin;
-          while ((p = content.find("<DataArray", p)) != std::string::npos &&
-                 p < end)
-            {
-              const std::size_t tag_end = content.find('>', p);
-              DataArray         array;
-              array.attributes =
-                parse_attributes(content.substr(p, tag_end - p));
+              const std::size_t tag_end = end_of_tag(content, appended);
+              if (tag_end == std::string::npos)
+                throw Error("its AppendedData tag is not closed");
               if (content[tag_end - 1] != '/')
                 {
-                  const std::size_t close =
-                    content.find("</DataArray>", tag_end);
-                  array.text = content.substr(tag_end + 1, close - tag_end - 1);
-                  p          = close;
+                  const std::size_t close = content.rfind("</AppendedData>");
+                  if (close == std::string::npos || close < tag_end)
+                    throw Error("it has no </AppendedData> (truncated?)");
+                  const std::size_t underscore =
+                    content.find_first_not_of(" \t\r\n", tag_end + 1);
+                  if (underscore < close && content[underscore] == '_')
+                    {
+                      appended_begin = underscore + 1;
+                      appended_end   = close;
+                    }
+                  xml = content.substr(0, tag_end + 1) + content.substr(close);
                 }
               else
-                p = tag_end;
-              arrays.push_back(array);
+                xml = content;
             }
-          return arrays;
+
+          check_nesting(xml);
+          try
+            {
+              std::istringstream stream(xml);
+              std::string().swap(xml);
+              boost::property_tree::read_xml(
+                stream, tree, boost::property_tree::xml_parser::no_comments);
+            }
+          catch (const boost::property_tree::xml_parser_error &e)
+            {
+              throw Error("malformed XML at line " + std::to_string(e.line()) +
+                          ": " + e.message());
+            }
+
+          const auto file = tree.get_child_optional("VTKFile");
+          if (!file || attribute(*file, "type") != "UnstructuredGrid")
+            throw Error("it is not a VTK UnstructuredGrid file");
+          const std::string compressor = attribute(*file, "compressor");
+          compressed                   = !compressor.empty();
+          if (compressed && compressor != "vtkZLibDataCompressor")
+            throw Error("compressor '" + compressor +
+                        "' is not supported (only vtkZLibDataCompressor)");
+          const std::string header_type =
+            attribute(*file, "header_type", "UInt32");
+          if (header_type != "UInt32" && header_type != "UInt64")
+            throw Error("header_type '" + header_type +
+                        "' is not supported (UInt32 or UInt64)");
+          header_size = (header_type == "UInt64") ? 8 : 4;
+          byte_order  = attribute(*file, "byte_order", "LittleEndian");
+
+          const auto grid = file->get_child_optional("UnstructuredGrid");
+          if (!grid)
+            throw Error("it has no UnstructuredGrid element");
+          if (const auto data = file->get_child_optional("AppendedData"))
+            {
+              const std::string encoding = attribute(*data, "encoding");
+              if (encoding != "raw")
+                throw Error("its appended data are encoded '" + encoding +
+                            "' (softface reads raw appended data; save as "
+                            "'binary' or 'ascii' otherwise)");
+              if (appended_begin == std::string::npos)
+                throw Error("its appended data do not start with '_'");
+            }
         }
 
-        std::vector<double>
-        values(const DataArray &array) const
+        const ptree &
+        grid() const
         {
-          const std::string   type   = array.attributes.at("type");
-          const std::string   format = array.attributes.count("format") ?
-                                         array.attributes.at("format") :
-                                         "ascii";
-          std::vector<double> result;
-          if (format == "ascii")
-            {
-              std::istringstream in(array.text);
-              double             v;
-              while (in >> v)
-                result.push_back(v);
-              return result;
-            }
+          return tree.get_child("VTKFile.UnstructuredGrid");
+        }
 
-          std::vector<unsigned char> raw;
-          if (format == "binary")
-            raw = decode_base64(array.text);
-          else if (format == "appended")
+        // The values of a DataArray, whatever its format; errors name it.
+        std::vector<double>
+        values(const ptree &array, const std::string &name) const
+        {
+          try
             {
-              const std::size_t offset =
-                appended_start + std::stoull(array.attributes.at("offset"));
-              raw.assign(content.begin() + offset, content.end());
+              const std::string format = attribute(array, "format", "ascii");
+              if (format == "ascii")
+                return parse_ascii(array.data());
+              if (format != "binary" && format != "appended")
+                throw Error("its format '" + format +
+                            "' is not ascii, binary or appended");
+              if (byte_order != "LittleEndian")
+                throw Error("the file's byte_order is '" + byte_order +
+                            "' (softface reads LittleEndian binary data)");
+              const std::string type = attribute(array, "type");
+              if (format == "binary")
+                {
+                  const auto raw = decode_base64(array.data());
+                  return values_from(unpack(raw.data(), raw.size()), type);
+                }
+              if (appended_begin == std::string::npos)
+                throw Error("it is appended but the file has no raw "
+                            "AppendedData");
+              const std::uint64_t offset =
+                whole_number(attribute(array, "offset"), "its offset");
+              const std::size_t size = appended_end - appended_begin;
+              if (offset > size)
+                throw Error("its offset " + std::to_string(offset) +
+                            " is past the end of the appended data");
+              const auto *start = reinterpret_cast<const unsigned char *>(
+                content.data() + appended_begin + offset);
+              return values_from(unpack(start, size - offset), type);
             }
-          else
-            throw Error("DataArray format '" + format + "' is not supported");
-
-          const std::vector<unsigned char> data = unpack(raw);
-          const std::size_t                size = size_of(type);
-          for (std::size_t i = 0; i + size <= data.size(); i += size)
-            result.push_back(value_at(&data[i], type));
-          return result;
+          catch (const Error &e)
+            {
+              throw Error("DataArray '" + name + "': " + e.what());
+            }
         }
 
       private:
-        std::size_t
-        header_value(const std::vector<unsigned char> &raw,
-                     const std::size_t                 index) const
-        {
-          const std::size_t size = size_of(header_type);
-          if ((index + 1) * size > raw.size())
-            throw Error("truncated data block");
-          return static_cast<std::size_t>(
-            value_at(&raw[index * size], header_type));
-        }
-
-        // Strip the block header (and inflate zlib blocks).
+        // Strips the block header (and inflates zlib blocks) of the binary
+        // data that @p size bytes from @p raw hold, checking every size in
+        // the header against the bytes actually there.
         std::vector<unsigned char>
-        unpack(const std::vector<unsigned char> &raw) const
+        unpack(const unsigned char *raw, const std::size_t size) const
         {
-          const std::size_t h = size_of(header_type);
+          const std::size_t h      = header_size;
+          const auto        header = [&](const std::uint64_t i) {
+            if (i >= size / h)
+              throw Error("truncated data block header");
+            if (h == 8)
+              {
+                std::uint64_t value;
+                std::memcpy(&value, raw + i * h, h);
+                return value;
+              }
+            std::uint32_t value;
+            std::memcpy(&value, raw + i * h, h);
+            return std::uint64_t(value);
+          };
+
           if (!compressed)
             {
-              const std::size_t n = header_value(raw, 0);
-              if (h + n > raw.size())
-                throw Error("truncated data block");
-              return {raw.begin() + h, raw.begin() + h + n};
+              const std::uint64_t n = header(0);
+              if (n > size - h)
+                throw Error("the data block of " + std::to_string(n) +
+                            " bytes is truncated");
+              return {raw + h, raw + h + n};
             }
-          const std::size_t          n_blocks   = header_value(raw, 0);
-          const std::size_t          block_size = header_value(raw, 1);
-          const std::size_t          last_size  = header_value(raw, 2);
+
+          const std::uint64_t n_blocks   = header(0);
+          const std::uint64_t block_size = header(1);
+          const std::uint64_t last_size  = header(2);
+          if (n_blocks > size / h)
+            throw Error("truncated zlib block header");
+          std::uint64_t              position = (3 + n_blocks) * h;
           std::vector<unsigned char> data;
-          std::size_t                position = h * (3 + n_blocks);
-          for (std::size_t b = 0; b < n_blocks; ++b)
+          for (std::uint64_t b = 0; b < n_blocks; ++b)
             {
-              const std::size_t compressed_size = header_value(raw, 3 + b);
-              uLongf            size =
+              const std::uint64_t compressed_size = header(3 + b);
+              const std::uint64_t expected =
                 (b + 1 == n_blocks && last_size != 0) ? last_size : block_size;
+              if (position > size || compressed_size > size - position)
+                throw Error("truncated zlib block");
+              if (expected > max_zlib_ratio * compressed_size + 64)
+                throw Error("corrupt zlib block header");
               const std::size_t old = data.size();
-              data.resize(old + size);
-              if (position + compressed_size > raw.size() ||
-                  uncompress(
-                    &data[old], &size, &raw[position], compressed_size) != Z_OK)
+              data.resize(old + expected);
+              // The block must fill exactly the sizes its header gives.
+              uLongf inflated = expected;
+              uLong  consumed = compressed_size;
+              if (uncompress2(data.data() + old,
+                              &inflated,
+                              raw + position,
+                              &consumed) != Z_OK ||
+                  inflated != expected || consumed != compressed_size)
                 throw Error("corrupt zlib block");
-              data.resize(old + size);
               position += compressed_size;
             }
           return data;
         }
 
-        std::string content;
-        bool        compressed     = false;
-        std::string header_type    = "UInt32";
-        std::size_t appended_start = 0;
-        std::size_t xml_end        = std::string::npos;
+        std::string content; // the whole file
+        ptree       tree;
+        bool        compressed  = false;
+        std::size_t header_size = 4;
+        std::string byte_order;
+        std::size_t appended_begin = std::string::npos; // after the '_'
+        std::size_t appended_end   = std::string::npos;
       };
+
+      // The first DataArray in @p section that @p accept takes by its Name,
+      // or nullptr.
+      template <typename Accept>
+      const ptree *
+      find_array(const ptree &piece, const std::string &section, Accept accept)
+      {
+        if (const auto s = piece.get_child_optional(section))
+          for (const auto &child : *s)
+            if (child.first == "DataArray" &&
+                accept(attribute(child.second, "Name")))
+              return &child.second;
+        return nullptr;
+      }
+
+      bool
+      is_id_name(const std::string &name)
+      {
+        return name == "MaterialID" || name == "material_id" ||
+               name == "gmsh:physical" || name == "CellEntityIds";
+      }
+
+      // Everything of one piece, with point numbers relative to the piece.
+      struct Piece
+      {
+        std::vector<Point<3>>    points;
+        std::vector<CellData<3>> cells;
+        std::vector<CellData<2>> faces;
+        std::string              id_name;
+      };
+
+      // The values of the DataArray named @p name in @p section, which must
+      // hold one value per cell (an array may be left out if there are no
+      // cells).
+      std::vector<double>
+      array_values(const VtuFile      &file,
+                   const ptree        &piece,
+                   const std::string  &section,
+                   const std::string  &name,
+                   const std::uint64_t n_cells)
+      {
+        const ptree *array =
+          find_array(piece, section, [&](const auto &n) { return n == name; });
+        if (array == nullptr && n_cells > 0)
+          throw Error("it has no DataArray '" + name + "' in " + section);
+        std::vector<double> values;
+        if (array != nullptr)
+          values = file.values(*array, name);
+        if (values.size() != n_cells && name != "connectivity")
+          throw Error("NumberOfCells is " + std::to_string(n_cells) + " but '" +
+                      name + "' holds " + std::to_string(values.size()) +
+                      " values");
+        return values;
+      }
+
+      Piece
+      read_piece(const VtuFile &file, const ptree &piece)
+      {
+        const std::string points_attribute = attribute(piece, "NumberOfPoints");
+        const std::string cells_attribute  = attribute(piece, "NumberOfCells");
+        const std::uint64_t n_points =
+          whole_number(points_attribute, "NumberOfPoints");
+        const std::uint64_t n_cells =
+          whole_number(cells_attribute, "NumberOfCells");
+
+        // Points: the first DataArray in <Points>, whatever its Name.
+        const ptree *points_array =
+          find_array(piece, "Points", [](const auto &) { return true; });
+        std::vector<double> xyz;
+        if (points_array != nullptr)
+          {
+            const std::string components =
+              attribute(*points_array, "NumberOfComponents", "3");
+            if (components != "3")
+              throw Error("its Points have " + components +
+                          " components instead of 3");
+            xyz = file.values(*points_array, "Points");
+          }
+        if (xyz.size() % 3 != 0 || xyz.size() / 3 != n_points)
+          throw Error("NumberOfPoints is " + std::to_string(n_points) +
+                      " but Points holds " + std::to_string(xyz.size()) +
+                      " numbers (3 per point)");
+        Piece result;
+        result.points.resize(n_points);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            for (unsigned int d = 0; d < 3; ++d)
+              if (!std::isfinite(xyz[3 * i + d]))
+                throw Error("point " + std::to_string(i) + " has coordinate " +
+                            number_text(xyz[3 * i + d]));
+            result.points[i] =
+              Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+          }
+
+        const auto connectivity =
+          array_values(file, piece, "Cells", "connectivity", n_cells);
+        const auto offsets =
+          array_values(file, piece, "Cells", "offsets", n_cells);
+        const auto types = array_values(file, piece, "Cells", "types", n_cells);
+        // Offsets are where each cell's points end in connectivity.
+        const double n_entries = connectivity.size();
+        double       previous  = 0;
+        for (std::size_t c = 0; c < n_cells; ++c)
+          {
+            if (!(offsets[c] >= previous && offsets[c] <= n_entries) ||
+                offsets[c] != std::floor(offsets[c]))
+              throw Error("the offset of cell " + std::to_string(c) + " is " +
+                          number_text(offsets[c]) +
+                          ", not a whole number between the one before (" +
+                          number_text(previous) + ") and the size of " +
+                          "connectivity (" + number_text(n_entries) + ")");
+            previous = offsets[c];
+          }
+        if (previous != n_entries)
+          throw Error("the offsets end at " + number_text(previous) +
+                      " but connectivity holds " + number_text(n_entries) +
+                      " entries");
+
+        std::vector<double> ids, ghost;
+        if (const ptree *array = find_array(piece, "CellData", is_id_name))
+          {
+            result.id_name = attribute(*array, "Name");
+            ids =
+              array_values(file, piece, "CellData", result.id_name, n_cells);
+          }
+        // Cells that a parallel writer copied from another piece.
+        if (find_array(piece, "CellData", [](const auto &n) {
+              return n == "vtkGhostType";
+            }) != nullptr)
+          ghost =
+            array_values(file, piece, "CellData", "vtkGhostType", n_cells);
+
+        for (std::size_t c = 0; c < n_cells; ++c)
+          {
+            const std::size_t begin = (c == 0) ? 0 : offsets[c - 1];
+            const std::size_t n     = std::size_t(offsets[c]) - begin;
+            const double      type  = types[c];
+            const std::string cell  = "cell " + std::to_string(c);
+            const bool duplicate = !ghost.empty() && is_index(ghost[c], 256) &&
+                                   (unsigned(ghost[c]) & 1) != 0;
+            if (type == 1 || type == 3 || duplicate)
+              continue;
+            if (type != 10 && type != 5)
+              throw Error(cell + " has VTK type " + number_text(type) +
+                          "; softface needs tetrahedra (type 10)");
+            const std::string what =
+              (type == 10) ? "a tetrahedron" : "a triangle";
+            const unsigned int n_vertices = (type == 10) ? 4 : 3;
+            if (n != n_vertices)
+              throw Error(cell + " (" + what + ") has " + std::to_string(n) +
+                          " points");
+            std::vector<unsigned int> vertices(n_vertices);
+            for (unsigned int v = 0; v < n_vertices; ++v)
+              {
+                const double index = connectivity[begin + v];
+                if (!is_index(index, n_points))
+                  throw Error(cell + " (" + what + ") refers to point " +
+                              number_text(index) + ", but the piece has " +
+                              std::to_string(n_points) + " points");
+                vertices[v] = index;
+              }
+            const double id = ids.empty() ? 0 : ids[c];
+            if (!is_index(id, 256))
+              throw Error(cell + " has " + result.id_name + " " +
+                          number_text(id) +
+                          "; ids must be whole numbers from 0 to 255");
+            if (type == 10)
+              {
+                result.cells.emplace_back(4);
+                result.cells.back().vertices    = vertices;
+                result.cells.back().material_id = id;
+              }
+            else
+              {
+                result.faces.emplace_back(3);
+                result.faces.back().vertices    = vertices;
+                result.faces.back().boundary_id = id;
+              }
+          }
+        return result;
+      }
+
+      // A parallel writer repeats the points on the interfaces between
+      // pieces, with exactly the same coordinates: each of them is merged
+      // with the coincident points of other pieces, so that the mesh conforms
+      // there. Coincident points within one piece stay as the file has them
+      // (they may be meant to be disconnected).
+      void
+      merge_across_pieces(const std::vector<Point<3>>     &vertices,
+                          const std::vector<unsigned int> &piece_of_vertex,
+                          std::vector<CellData<3>>        &cells,
+                          SubCellData                     &faces)
+      {
+        std::vector<unsigned int> order(vertices.size());
+        std::iota(order.begin(), order.end(), 0u);
+        std::sort(order.begin(),
+                  order.end(),
+                  [&](const unsigned int a, const unsigned int b) {
+                    for (unsigned int d = 0; d < 3; ++d)
+                      if (vertices[a][d] != vertices[b][d])
+                        return vertices[a][d] < vertices[b][d];
+                    return a < b;
+                  });
+        std::vector<unsigned int> merged(vertices.size());
+        std::iota(merged.begin(), merged.end(), 0u);
+        for (std::size_t i = 0; i < order.size();)
+          {
+            std::size_t end = i + 1;
+            while (end < order.size() &&
+                   vertices[order[end]] == vertices[order[i]])
+              ++end;
+            if (piece_of_vertex[order[i]] != piece_of_vertex[order[end - 1]])
+              for (std::size_t j = i + 1; j < end; ++j)
+                merged[order[j]] = order[i];
+            i = end;
+          }
+        for (auto &cell : cells)
+          for (unsigned int &v : cell.vertices)
+            v = merged[v];
+        for (auto &face : faces.boundary_quads)
+          for (unsigned int &v : face.vertices)
+            v = merged[v];
+      }
     } // namespace
 
     void
@@ -295,88 +675,76 @@ namespace softface
     {
       try
         {
-          const VtuFile     file(filename);
-          const auto        piece    = file.tag_attributes("<Piece");
-          const std::size_t n_points = std::stoull(piece.at("NumberOfPoints"));
-          const std::size_t n_cells  = std::stoull(piece.at("NumberOfCells"));
+          const VtuFile              file(filename);
+          std::vector<const ptree *> pieces;
+          for (const auto &child : file.grid())
+            if (child.first == "Piece")
+              pieces.push_back(&child.second);
+          if (pieces.empty())
+            throw Error("it has no Piece");
 
-          const auto points = file.arrays_in("Points");
-          if (points.empty())
-            throw Error("no Points");
-          const std::vector<double> xyz = file.values(points[0]);
-          if (xyz.size() != 3 * n_points)
-            throw Error("Points holds " + std::to_string(xyz.size()) +
-                        " numbers for " + std::to_string(n_points) + " points");
-          std::vector<Point<3>> vertices(n_points);
-          for (std::size_t i = 0; i < n_points; ++i)
-            vertices[i] = Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-
-          std::vector<double> connectivity, offsets, types, ids;
-          for (const DataArray &a : file.arrays_in("Cells"))
+          std::vector<Point<3>>     vertices;
+          std::vector<unsigned int> piece_of_vertex;
+          std::vector<CellData<3>>  cells;
+          SubCellData               faces;
+          std::string               id_name;
+          bool                      have_id_name = false;
+          for (unsigned int p = 0; p < pieces.size(); ++p)
             {
-              const std::string name =
-                a.attributes.count("Name") ? a.attributes.at("Name") : "";
-              if (name == "connectivity")
-                connectivity = file.values(a);
-              else if (name == "offsets")
-                offsets = file.values(a);
-              else if (name == "types")
-                types = file.values(a);
-            }
-          for (const DataArray &a : file.arrays_in("CellData"))
-            {
-              const std::string name =
-                a.attributes.count("Name") ? a.attributes.at("Name") : "";
-              if (ids.empty() &&
-                  (name == "MaterialID" || name == "material_id" ||
-                   name == "gmsh:physical" || name == "CellEntityIds"))
-                ids = file.values(a);
-            }
-          if (offsets.size() != n_cells || types.size() != n_cells)
-            throw Error("Cells must hold connectivity, offsets and types for " +
-                        std::to_string(n_cells) + " cells");
-          if (!ids.empty() && ids.size() != n_cells)
-            throw Error("the cell id array does not have one value per cell");
-
-          std::vector<CellData<3>> cells;
-          SubCellData              faces;
-          for (std::size_t c = 0; c < n_cells; ++c)
-            {
-              const std::size_t begin = c == 0 ? 0 : offsets[c - 1];
-              const std::size_t end   = offsets[c];
-              const int         type  = types[c];
-              if (end > connectivity.size() || begin > end)
-                throw Error("cell " + std::to_string(c) +
-                            " has an invalid offset");
-              if (type == 10 && end - begin == 4)
+              Piece piece;
+              try
                 {
-                  CellData<3> cell(4);
-                  for (unsigned int v = 0; v < 4; ++v)
-                    cell.vertices[v] = connectivity[begin + v];
-                  cell.material_id = ids.empty() ? 0 : ids[c];
+                  piece = read_piece(file, *pieces[p]);
+                  // All pieces must name their ids alike (empty ones aside),
+                  // or some cells would silently get id 0.
+                  const auto described = [](const std::string &name) {
+                    return name.empty() ? std::string("missing") :
+                                          "in '" + name + "'";
+                  };
+                  const bool empty = piece.cells.empty() && piece.faces.empty();
+                  if (!empty && have_id_name && piece.id_name != id_name)
+                    throw Error("its cell ids are " + described(piece.id_name) +
+                                " but those of the pieces before it are " +
+                                described(id_name));
+                  if (!empty)
+                    {
+                      id_name      = piece.id_name;
+                      have_id_name = true;
+                    }
+                }
+              catch (const Error &e)
+                {
+                  if (pieces.size() == 1)
+                    throw;
+                  throw Error("piece " + std::to_string(p) + ": " + e.what());
+                }
+
+              // Point numbers relative to the piece become global ones.
+              const std::size_t first = vertices.size();
+              if (piece.points.size() >= numbers::invalid_unsigned_int - first)
+                throw Error("it has too many points");
+              vertices.insert(vertices.end(),
+                              piece.points.begin(),
+                              piece.points.end());
+              piece_of_vertex.resize(vertices.size(), p);
+              for (auto &cell : piece.cells)
+                {
+                  for (unsigned int &v : cell.vertices)
+                    v += first;
                   cells.push_back(cell);
                 }
-              else if (type == 5 && end - begin == 3)
+              for (auto &face : piece.faces)
                 {
-                  CellData<2> face(3);
-                  for (unsigned int v = 0; v < 3; ++v)
-                    face.vertices[v] = connectivity[begin + v];
-                  face.boundary_id = ids.empty() ? 0 : ids[c];
+                  for (unsigned int &v : face.vertices)
+                    v += first;
                   faces.boundary_quads.push_back(face);
                 }
-              else if (type != 1 && type != 3)
-                throw Error("cell " + std::to_string(c) + " has VTK type " +
-                            std::to_string(type) +
-                            "; softface needs tetrahedra (type 10)");
             }
-          for (const auto &cell : cells)
-            for (const unsigned int v : cell.vertices)
-              if (v >= n_points)
-                throw Error("a cell refers to point " + std::to_string(v) +
-                            " of " + std::to_string(n_points));
           if (cells.empty())
             throw Error("no tetrahedra");
 
+          if (pieces.size() > 1)
+            merge_across_pieces(vertices, piece_of_vertex, cells, faces);
           GridTools::delete_unused_vertices(vertices, cells, faces);
           triangulation.clear();
           triangulation.create_triangulation(vertices, cells, faces);

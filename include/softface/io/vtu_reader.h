@@ -12,14 +12,19 @@ namespace softface
   namespace Mesh
   {
     /**
-     * Read a VTK XML unstructured grid (.vtu) as ParaView, VTK or meshio
-     * write it: DataArrays in ascii, inline binary (base64) or appended raw
-     * form, optionally zlib-compressed, with 32- or 64-bit headers and
-     * indices. Tetrahedra (VTK type 10) become cells, triangles (type 5)
-     * boundary faces, vertices and lines are skipped; anything else is an
-     * error. The first cell data array named MaterialID, material_id,
-     * gmsh:physical or CellEntityIds gives the material ids of tetrahedra and
-     * the boundary ids of triangles.
+     * Read a VTK XML unstructured grid (.vtu) as ParaView, VTK, meshio or a
+     * parallel writer save it: DataArrays in ascii, inline binary (base64) or
+     * appended raw form, optionally zlib-compressed, with 32- or 64-bit
+     * headers and indices, little-endian. Every Piece is read; the points
+     * that several pieces share (same coordinates) are merged, so that the
+     * mesh conforms across pieces, and cells marked as ghost copies
+     * (vtkGhostType) are skipped. Tetrahedra (VTK type 10) become cells,
+     * triangles (type 5) boundary faces, vertices and lines are skipped;
+     * anything else is an error. The first cell data array named MaterialID,
+     * material_id, gmsh:physical or CellEntityIds gives the material ids of
+     * tetrahedra and the boundary ids of triangles (whole numbers 0 to 255).
+     * Whatever cannot be read completely throws one softface::Error,
+     * "Cannot read mesh file '<filename>': <reason>."
      */
     void
     read_vtu(const std::string &filename, Triangulation<3> &triangulation);
