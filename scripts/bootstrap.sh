@@ -3,7 +3,7 @@
 
 # Debian packages softface needs to build and test. OpenBLAS replaces the reference
 # BLAS that the direct solver (CHOLMOD) would otherwise run on 30x slower; ccache is optional.
-SOFTFACE_PACKAGES="cmake g++ make libdeal.ii-dev libsuitesparse-dev libopenblas0-pthread numdiff"
+SOFTFACE_PACKAGES="cmake g++ make libdeal.ii-dev libsuitesparse-dev libopenblas0-pthread numdiff clang-format"
 
 softface_missing_packages()
 {
