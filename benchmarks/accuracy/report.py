@@ -143,10 +143,7 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
                "| mesh tets | vertices | setting | DoFs | setup s | solve s | status |",
                "|---:|---:|---|---:|---:|---:|---|"]
         for r in refs:
-            dofs = ""
-            for item in r.get("details", "").split(";"):
-                if item.startswith("DoFs="):
-                    dofs = item.split("=", 1)[1]
+            dofs = r.get("n_dofs", "")
             md.append(f"| {r['n_tets']} | {r['n_vertices']} | {r['setting']} | {dofs} | "
                       f"{fmt(r['setup_s'])} | "
                       f"{fmt(r['solve_s'])} | {r['status']}"

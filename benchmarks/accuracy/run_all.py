@@ -6,7 +6,7 @@ benchmarks/run_all.sh, which builds softface first.
 For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
 30 degree rotation of the inner cube):
   1. evaluation points: the free vertices of the coarsest mesh;
-  2. the reference: nonlinear FEM (Neo-Hooke) with quadratic tetrahedra on
+  2. the reference: 'reference fem' (Neo-Hooke on quadratic tetrahedra) on
      graded cube meshes (grid spacing growing sixfold from the inner cube's
      face planes to the outer faces: the inner cube's edges and corners make
      the displacement singular, and uniform refinement converges too slowly
@@ -42,6 +42,9 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import report  # noqa: E402
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import summary  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 HERE = os.path.join(ROOT, "benchmarks", "accuracy")
@@ -111,6 +114,7 @@ BASE_SETTINGS = {
 }
 REFERENCE_SETTINGS = [("Material law", "neo-hooke"), ("Solver", "cg amg"),
                       ("Polynomial degree", "2"), ("Residual tolerance", "1e-9")]
+REFERENCE_MODEL = "reference fem"
 # Linear elasticity on the reference's discretisation (its model error).
 LINEAR_P2_SETTINGS = [("Material law", "linear")] + REFERENCE_SETTINGS[1:]
 # Added for single reference levels (scene, tets).
@@ -191,38 +195,34 @@ class Progress:
         self.done += cost
 
 
-def run_finished(log):
-    return os.path.exists(log) and any(line.startswith("Outputs in") for line in open(log))
+def run_finished(output):
+    """Did the run of a case write its summary (softface writes it last)?"""
+    return bool(summary.read(os.path.join(output, "summary.csv")))
 
 
-def run_softface(prm, log, report_only=False):
-    """Run one case (or, with report_only, read the log of an earlier run of
-    it); returns (ok, first error line)."""
+def run_softface(prm, output, report_only=False):
+    """Run one case (its log goes to OUTPUT.log), or with report_only take an
+    earlier run's; returns (ok, error). The outcome is read from the case's
+    summary.csv; a run that wrote none stopped on its input, whose one-line
+    error is the last line of its log."""
+    log = output + ".log"
     if report_only:
         if not os.path.exists(log):
             sys.exit(f"--report-only: no earlier run of {prm} (missing {log})")
-        done = run_finished(log)
     else:
         with open(log, "w") as out:
-            result = subprocess.run([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
-    message = ""
-    for line in open(log):
-        if line.startswith("softface: error:"):
-            message = line[len("softface: error:"):].strip()
-            break
-    if report_only:
-        return done and not message, message
-    return result.returncode == 0, message
+            subprocess.run([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
+    rows = summary.read(os.path.join(output, "summary.csv"))
+    if not rows:
+        lines = [line for line in open(log) if line.startswith("softface: error:")]
+        return False, lines[-1][len("softface: error:"):].strip() if lines else "no summary.csv"
+    failed = [r for r in rows if r["status"] != "ok"]
+    return not failed, "; ".join(r["error"] for r in failed)
 
 
 def summary_row(output, model):
-    path = os.path.join(output, "summary.csv")
-    if not os.path.exists(path):
-        return None
-    for row in csv.DictReader(open(path)):
-        if row["model"] == model:
-            return row
-    return None
+    row = summary.row(os.path.join(output, "summary.csv"), model)
+    return row if row is not None and row["status"] == "ok" else None
 
 
 def free_points(points):
@@ -265,11 +265,11 @@ def main():
                           tets=config["meshes"][0], settings=BASE_SETTINGS["linear fem"]))
         levels = reference_meshes(config, scene["key"])
         for tets in levels:
-            cases.append(dict(scene=scene, kind="reference", model="nonlinear fem",
+            cases.append(dict(scene=scene, kind="reference", model=REFERENCE_MODEL,
                               tets=tets, settings=REFERENCE_SETTINGS +
                               REFERENCE_EXTRA_SETTINGS.get((scene["key"], tets), [])))
         for tets in levels[-2:]:
-            cases.append(dict(scene=scene, kind="model error", model="nonlinear fem",
+            cases.append(dict(scene=scene, kind="model error", model=REFERENCE_MODEL,
                               tets=tets, settings=LINEAR_P2_SETTINGS))
         for model in MODELS:
             for tets in config["meshes"]:
@@ -293,7 +293,7 @@ def main():
         if args.report_only and not unchanged:
             sys.exit(f"--report-only: {output}.prm is not what this configuration "
                      "would run; run without --report-only (or with --resume)")
-        return args.report_only or (args.resume and unchanged and run_finished(output + ".log"))
+        return args.report_only or (args.resume and unchanged and run_finished(output))
 
     rows, reference_rows, linear_p2_rows, precision = [], [], [], {}
     points_file, reference_values = {}, {}
@@ -321,7 +321,7 @@ def main():
         if kind == "points":
             unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
                                   nodal=True)
-            ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
+            ok, message = run_softface(prm, output, reuse(unchanged, output))
             if not ok:
                 sys.exit(f"the evaluation-point run failed: {message} (log {output}.log)")
             points, _ = read_values(os.path.join(output, "displacements_linear_fem.csv"))
@@ -338,7 +338,7 @@ def main():
             settings = [("Stop gradient threshold", "1e-5"), ("Active set", "false"),
                         ("Maximum sweeps", "100000"), ("Precision history file", history)]
             unchanged = write_prm(prm, scene, model, tets, settings, output)
-            ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
+            ok, message = run_softface(prm, output, reuse(unchanged, output))
             row = summary_row(output, model)
             precision[key] = dict(scene=scene, tets=tets, ok=ok, message=message,
                                   vertices=row["n_vertices"] if row else "",
@@ -356,7 +356,7 @@ def main():
                   points=points_file[key],
                   grading=config["reference_grading"] if kind != "sweep" else 1,
                   symmetric=(kind != "sweep"))
-        ok, message = run_softface(prm, output + ".log", reuse(unchanged, output))
+        ok, message = run_softface(prm, output, reuse(unchanged, output))
         row = summary_row(output, model)
         values_path = os.path.join(output, f"evaluation_{file_name_of(model)}.csv")
         entry = dict(scene=key, model={"sweep": model, "reference": "reference (P2 neo-hooke)",
@@ -377,7 +377,7 @@ def main():
                 print(f"    failed: {message}", flush=True)
             continue
         if kind == "reference":
-            entry["details"] = row["details"] if row else ""
+            entry["n_dofs"] = row["n_dofs"] if row else ""
             entry["values"] = read_values(values_path)[1] if ok and row else None
             reference_rows.append(entry)
             if entry["values"] is None:

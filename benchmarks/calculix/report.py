@@ -11,7 +11,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "linear_fem"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from report import cpu_name  # noqa: E402
+import summary  # noqa: E402
 
 
 def read_csv(path):
@@ -31,20 +33,15 @@ def main():
         info = json.load(open(info_path))
         ccx_ok = info.get("ccx_nl_converged", False)
         for tag in ("cg_amg", "direct"):
-            log = os.path.join(out, f"softface_{tag}.log")
-            if not os.path.exists(log):
+            wall_file = os.path.join(out, f"softface_{tag}.wall")
+            if not os.path.exists(wall_file):
                 continue
-            text = open(log).read()
-            wall = float(open(os.path.join(out, f"softface_{tag}.wall")).read().split()[-1])
-            ok = "softface: error:" not in text
-            reason = ""
-            for line in text.splitlines():
-                if line.startswith("softface: error:"):
-                    reason = line[len("softface: error: "):]
-            details = ""
-            for line in text.splitlines():
-                if line.startswith("nonlinear fem details:"):
-                    details = " ".join(line.split(":", 1)[1].split())
+            wall = float(open(wall_file).read().split()[-1])
+            r = summary.row(os.path.join(out, f"softface_{tag}", "summary.csv"), "nonlinear fem")
+            ok = r is not None and r["status"] == "ok"
+            reason = (r["error"] if r else
+                      f"no summary.csv (see softface_{tag}.log)")
+            details = summary.details_text(r["details"]) if ok else ""
             diff = ""
             nodal = os.path.join(out, f"softface_{tag}", "displacements_nonlinear_fem.csv")
             ccx_csv = os.path.join(out, "calculix_nl_displacements.csv")

@@ -1,9 +1,11 @@
-"""Markdown table and log-log plot (seed Fig. 2) of the cube model comparison.
+"""Markdown table and log-log plot (seed Fig. 2) of the cube model comparison, from
+the runs' summary.csv files (read by column name), joined into cube_models.csv.
 
-usage: /usr/bin/python3 report.py RESULTS.csv OUTDIR "command that ran it"
+usage: /usr/bin/python3 report.py OUTDIR "command that ran it" RUN_FOLDER ...
 """
 import csv
 import math
+import os
 import sys
 
 import matplotlib
@@ -11,8 +13,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-sys.path.insert(0, __file__.rsplit("/", 2)[0] + "/linear_fem")
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "linear_fem"))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from report import cpu_name  # noqa: E402
+import summary  # noqa: E402
 
 
 def fit_exponent(n, t):
@@ -26,15 +30,21 @@ def fit_exponent(n, t):
 
 
 def details_text(r):
-    """The model's own figures ("name=value;...") and, for failed or warned runs, the message."""
-    text = ", ".join(p.replace("=", " ") for p in r["details"].split(";") if p)
-    mine = [m.strip() for m in r.get("messages", "").split("|") if r["model"] + ":" in m]
-    return text + ("; " + " ".join(mine) if mine else "")
+    """The model's own figures and, for warned runs, the warning."""
+    text = summary.details_text(r["details"])
+    return text + ("; warning: " + r["warnings"] if r["warnings"] else "")
 
 
 def main():
-    path, outdir, command = sys.argv[1], sys.argv[2], sys.argv[3]
-    rows = list(csv.DictReader(open(path)))
+    outdir, command, folders = sys.argv[1], sys.argv[2], sys.argv[3:]
+    all_rows = [r for folder in folders for r in summary.read(os.path.join(folder, "summary.csv"))]
+    with open(os.path.join(outdir, "cube_models.csv"), "w", newline="") as f:
+        if all_rows:
+            w = csv.DictWriter(f, fieldnames=list(all_rows[0].keys()))
+            w.writeheader()
+            w.writerows(all_rows)
+    failed = [r for r in all_rows if r["status"] != "ok"]
+    rows = [r for r in all_rows if r["status"] == "ok"]
     for r in rows:
         for k in ("n_tets", "n_vertices", "n_free_dofs", "iterations"):
             r[k] = int(r[k])
@@ -69,15 +79,15 @@ def main():
         for m in models:
             r = by.get((m, n))
             if r is None:
-                any_row = next((x for x in rows if x["n_tets"] == n), {})
-                why = [x.strip() for x in any_row.get("messages", "").split("|")
-                       if "error: " + m + ":" in x or "error: " + m + " (" in x]
+                why = [x["error"] for x in failed
+                       if x["model"] == m and int(x["n_tets"]) == n]
                 md.append(f"| {m} | {n} | | failed | | | | | | "
                           f"{' '.join(why) or 'see the run log'} |")
                 continue
             md.append(f"| {m} | {r['n_tets']} | {r['n_free_dofs']} | {r['setup_s']:.3f} | "
                       f"{r['solve_s']:.3f} | {r['total']:.3f} | {r['iterations']} | "
-                      f"{r['max_diff_to_linear_fem_mm']} | {r['mean_diff_to_linear_fem_mm']} | "
+                      f"{float(r['max_diff_to_reference_mm']):.6f} | "
+                      f"{float(r['mean_diff_to_reference_mm']):.6f} | "
                       f"{details_text(r)} |")
     md.append("")
     md.append("## Ratios measured in the same run (total = setup + solve)")

@@ -16,24 +16,15 @@ sizes="30000 100000 200000 500000"
 [ "${1:-}" = "--quick" ] && sizes="30000 100000"
 
 mkdir -p "$work" "$results"
-csv=$work/cube_models.csv
-header_written=false
+folders=()
 n=$(echo $sizes | wc -w); i=0; start=$(date +%s)
 for tets in $sizes; do
   i=$((i + 1))
   echo "[$i/$n] $tets tetrahedra (elapsed $(( $(date +%s) - start )) s)"
   sed -e "s/@TETS@/$tets/" -e "s|@OUTPUT@|$work/$tets|" "$here/cube.prm.in" > "$work/$tets.prm"
   "$softface" "$work/$tets.prm" > "$work/$tets.log" 2>&1 || echo "  (a model failed: see $work/$tets.log)"
-  # summary.csv rows, plus the warnings and errors softface printed for the run.
-  if [ "$header_written" = false ]; then
-    echo "$(head -n 1 "$work/$tets/summary.csv"),messages" > "$csv"
-    header_written=true
-  fi
-  messages=$(grep -E "^softface: (warning|error)" "$work/$tets.log" | sed 's/^softface: //; s/,/;/g' | tr '\n' '|' || true)
-  tail -n +2 "$work/$tets/summary.csv" | while IFS= read -r row; do
-    echo "$row,$messages" >> "$csv"
-  done
+  folders+=("$work/$tets")
 done
-cp "$csv" "$results/cube_models.csv"
-/usr/bin/python3 "$here/report.py" "$results/cube_models.csv" "$results" "$0 $*"
+# report.py joins the runs' summary.csv (read by column name) into cube_models.csv.
+/usr/bin/python3 "$here/report.py" "$results" "$0 $*" "${folders[@]}"
 echo "wrote $results/cube_models.md, cube_models.csv, cube_models.png"

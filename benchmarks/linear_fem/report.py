@@ -1,11 +1,17 @@
-"""Turn the linear FEM benchmark CSV into a Markdown table and a PNG plot.
+"""The linear FEM benchmark's cases (their summary.csv, read by column name) as
+linear_fem.csv, a Markdown table and a PNG plot.
 
-usage: /usr/bin/python3 report.py RESULTS.csv OUTDIR "command that ran it"
+usage: /usr/bin/python3 report.py CASES.txt OUTDIR "command that ran it"
+CASES.txt: one line per case, the solver and the case's output folder, tab-separated.
 """
 import csv
 import math
+import os
 import platform
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+import summary  # noqa: E402
 
 import matplotlib
 
@@ -25,8 +31,24 @@ def cpu_name():
 
 
 def main():
-    path, outdir, command = sys.argv[1], sys.argv[2], sys.argv[3]
-    rows = list(csv.DictReader(open(path)))
+    cases, outdir, command = sys.argv[1], sys.argv[2], sys.argv[3]
+    columns = ["solver", "n_tets", "n_vertices", "n_free_dofs", "setup_s", "solve_s",
+               "iterations", "max_displacement_mm", "peak_memory_mb", "phases"]
+    rows = []
+    for line in open(cases):
+        solver, folder = line.rstrip("\n").split("\t")
+        r = summary.row(os.path.join(folder, "summary.csv"), "linear fem")
+        if r is None or r["status"] != "ok":
+            print(f"{solver} in {folder}: no result" + (f" ({r['error']})" if r else ""))
+            continue
+        r["solver"] = solver
+        r["peak_memory_mb"] = str(round(float(r["peak_memory_mb"])))
+        r["phases"] = summary.phases_text(r["phases"])
+        rows.append({k: r[k] for k in columns})
+    with open(os.path.join(outdir, "linear_fem.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=columns)
+        w.writeheader()
+        w.writerows(rows)
     for r in rows:
         for k in ("n_tets", "n_vertices", "n_free_dofs", "iterations", "peak_memory_mb"):
             r[k] = int(r[k])

@@ -1,3 +1,6 @@
+// Errors in what the user gave softface (core): the one-line message of any
+// exception, without deal.II's stack-trace framing.
+
 #include <deal.II/base/exceptions.h>
 
 #include <softface/core/error.h>

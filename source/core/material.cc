@@ -1,3 +1,7 @@
+// The homogeneous tissue (core): Young's modulus and Poisson's ratio from the
+// parameter file, and the Lame coefficients every model derives from them
+// (seed eqs. 6-7).
+
 #include <softface/core/error.h>
 #include <softface/core/material.h>
 

@@ -1,3 +1,8 @@
+// Where a scene's tetrahedra come from and what they must be (core): the
+// seed's cube benchmark generated with a target size, grading and symmetric
+// split, and the check that every cell is a positively oriented,
+// non-degenerate tetrahedron. Mesh files are read in io/mesh_reader.cc.
+
 #include <deal.II/grid/reference_cell.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>

@@ -1,3 +1,7 @@
+// The surgeon's plan (core): a rigid motion per moved bone segment from the
+// parameter file, and the join points' prescribed displacement it gives on the
+// shared DoF layout; the input of every model's solve.
+
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>

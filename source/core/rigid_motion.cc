@@ -1,3 +1,5 @@
+// A bone segment's planned motion x -> R (x - c) + c + t (core, seed 3.3).
+
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/physics/transformations.h>
 

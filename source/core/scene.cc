@@ -1,3 +1,7 @@
+// The scene every model works on (core): the mesh (generated or read), the one
+// DoF layout, the tissue, and which vertices are join points of which bone
+// segment (seed 3.3), with the checks that make the problem well posed.
+
 #include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_accessor.h>
 #include <deal.II/fe/fe_simplex_p.h>

@@ -1,3 +1,6 @@
+// One BLAS thread per process (core): OpenBLAS's spinning threads slowed the
+// direct solver 10-20 times when two processes shared the two cores.
+
 #include <softface/core/threads.h>
 
 #include <cstdlib>

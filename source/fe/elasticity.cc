@@ -17,38 +17,70 @@ namespace softface
 {
   namespace Elasticity
   {
-    CellMatrix
-    p1_tangent(const Tetrahedron::Geometry &tetrahedron, const Tensor<4, 3> &A)
+    void
+    p1_tangent(const Tetrahedron::Geometry &tetrahedron,
+               const Tensor<4, 3>          &A,
+               CellMatrix                  &K)
     {
-      const auto  &grad   = tetrahedron.gradients;
-      const double volume = tetrahedron.volume;
-      // G[a][i][k][L] = V sum_J grad_a[J] A[i][J][k][L], then one product
-      // with grad_b per block.
-      std::array<Tensor<3, 3>, 4> G;
-      for (unsigned int a = 0; a < 4; ++a)
+      // This runs once per cell and Newton iteration, so it does as little
+      // as the algebra allows. The gradients sum to zero, so every block row
+      // and column does too: K_a0 = -(K_a1 + K_a2 + K_a3). Only
+      // G_a = V grad_a[J] A[.][J][.][.] for a = 1..3 and the blocks K_ab,
+      // 1 <= a <= b <= 3, are products; the rest are sums and transposes.
+      double g[4][3];
+      for (unsigned int a = 1; a < 4; ++a)
+        for (unsigned int J = 0; J < 3; ++J)
+          g[a][J] = tetrahedron.gradients[a][J];
+      double G[4][3][3][3];
+      for (unsigned int a = 1; a < 4; ++a)
         for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int J = 0; J < 3; ++J)
-            G[a][i] += (volume * grad[a][J]) * A[i][J];
-      CellMatrix K;
-      for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int k = 0; k < 3; ++k)
+            for (unsigned int L = 0; L < 3; ++L)
+              G[a][i][k][L] = tetrahedron.volume * (g[a][0] * A[i][0][k][L] +
+                                                    g[a][1] * A[i][1][k][L] +
+                                                    g[a][2] * A[i][2][k][L]);
+      for (unsigned int a = 1; a < 4; ++a)
         for (unsigned int b = a; b < 4; ++b)
-          {
-            for (unsigned int i = 0; i < 3; ++i)
-              K[a][b][i] = G[a][i] * grad[b];
-            if (b != a)
-              K[b][a] = transpose(K[a][b]);
-          }
-      return K;
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int k = 0; k < 3; ++k)
+              {
+                const double value = G[a][i][k][0] * g[b][0] +
+                                     G[a][i][k][1] * g[b][1] +
+                                     G[a][i][k][2] * g[b][2];
+                K[a][b][i][k] = value;
+                K[b][a][k][i] = value;
+              }
+      for (unsigned int a = 1; a < 4; ++a)
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              const double value =
+                -(K[a][1][i][k] + K[a][2][i][k] + K[a][3][i][k]);
+              K[a][0][i][k] = value;
+              K[0][a][k][i] = value;
+            }
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int k = 0; k < 3; ++k)
+          K[0][0][i][k] = -(K[0][1][i][k] + K[0][2][i][k] + K[0][3][i][k]);
     }
 
-    CellMatrix
-    p1_stiffness(const Tetrahedron::Geometry &tetrahedron, const Lame &lame)
+    Tensor<4, 3>
+    linear_tangent(const Lame &lame)
     {
       Tensor<2, 3> P;
       Tensor<4, 3> A;
       MaterialLaw::first_piola_kirchhoff(
         MaterialLaw::Law::linear, lame, unit_symmetric_tensor<3>(), P, &A);
-      return p1_tangent(tetrahedron, A);
+      return A;
+    }
+
+    CellMatrix
+    p1_stiffness(const Tetrahedron::Geometry &tetrahedron,
+                 const Tensor<4, 3>          &linear_tangent)
+    {
+      CellMatrix K;
+      p1_tangent(tetrahedron, linear_tangent, K);
+      return K;
     }
 
     bool
@@ -70,20 +102,19 @@ namespace softface
       for (unsigned int a = 0; a < 4; ++a)
         response.force[a] = tetrahedron.volume * (P * tetrahedron.gradients[a]);
       if (with_tangent)
-        response.tangent = p1_tangent(tetrahedron, A);
+        p1_tangent(tetrahedron, A, response.tangent);
       return true;
     }
 
     void
     assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
     {
-      const Lame lame = scene.material.lame();
-      stiffness       = 0;
+      const Tensor<4, 3> A = linear_tangent(scene.material.lame());
+      stiffness            = 0;
       for (const auto &cell : scene.triangulation.active_cell_iterators())
         ConstrainedSystem::add_cell_matrix(
           ConstrainedSystem::cell_dofs(scene, cell),
-          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)),
-                       lame),
+          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)), A),
           stiffness);
     }
 

@@ -56,29 +56,35 @@ namespace softface
         return false;
       const Tensor<2, 3> I = unit_symmetric_tensor<3>();
 
-      // The loops over A's 81 entries name the indices i, J, k, L of
-      // dP_iJ / dF_kL; the J_ spelling keeps J for det F.
+      // A's 81 entries: the products that fill every entry first, then the
+      // Kronecker-delta terms on the entries they touch (no branches in the
+      // loops: this runs once per cell and Newton iteration). The indices
+      // are i, J, k, L of dP_iJ / dF_kL; J_ keeps J for det F.
       switch (law)
         {
           case Law::linear:
             {
-              // P = lambda tr(eps) I + 2 mu eps, eps = sym(F) - I
+              // P = lambda tr(eps) I + 2 mu eps, eps = sym(F) - I;
+              // A = lambda d_iJ d_kL + mu (d_ik d_JL + d_iL d_kJ)
               const Tensor<2, 3> strain = 0.5 * (F + transpose(F)) - I;
               P = lambda * trace(strain) * I + 2. * mu * strain;
               if (A != nullptr)
-                for (unsigned int i = 0; i < 3; ++i)
-                  for (unsigned int J_ = 0; J_ < 3; ++J_)
+                {
+                  *A = 0;
+                  for (unsigned int i = 0; i < 3; ++i)
                     for (unsigned int k = 0; k < 3; ++k)
-                      for (unsigned int L = 0; L < 3; ++L)
-                        (*A)[i][J_][k][L] = (i == J_ && k == L ? lambda : 0.) +
-                                            (i == k && J_ == L ? mu : 0.) +
-                                            (i == L && k == J_ ? mu : 0.);
+                      {
+                        (*A)[i][i][k][k] += lambda;
+                        (*A)[i][k][i][k] += mu;
+                        (*A)[i][k][k][i] += mu;
+                      }
+                }
               break;
             }
           case Law::st_venant_kirchhoff:
             {
-              // P = F S; dP_iJ/dF_kL = delta_ik S_JL + lambda F_iJ F_kL
-              //                        + mu F_iL F_kJ + mu (F F^T)_ik delta_JL
+              // P = F S; A = d_ik S_JL + lambda F_iJ F_kL + mu F_iL F_kJ
+              //              + mu (F F^T)_ik d_JL
               const Tensor<2, 3> E = 0.5 * (transpose(F) * F - I);
               const Tensor<2, 3> S = lambda * trace(E) * I + 2. * mu * E;
               P                    = F * S;
@@ -89,30 +95,40 @@ namespace softface
                     for (unsigned int J_ = 0; J_ < 3; ++J_)
                       for (unsigned int k = 0; k < 3; ++k)
                         for (unsigned int L = 0; L < 3; ++L)
-                          (*A)[i][J_][k][L] = (i == k ? S[L][J_] : 0.) +
-                                              lambda * F[i][J_] * F[k][L] +
-                                              mu * F[i][L] * F[k][J_] +
-                                              (J_ == L ? mu * b[i][k] : 0.);
+                          (*A)[i][J_][k][L] = lambda * F[i][J_] * F[k][L] +
+                                              mu * F[i][L] * F[k][J_];
+                  for (unsigned int i = 0; i < 3; ++i)
+                    for (unsigned int J_ = 0; J_ < 3; ++J_)
+                      for (unsigned int L = 0; L < 3; ++L)
+                        (*A)[i][J_][i][L] += S[L][J_];
+                  for (unsigned int i = 0; i < 3; ++i)
+                    for (unsigned int k = 0; k < 3; ++k)
+                      for (unsigned int J_ = 0; J_ < 3; ++J_)
+                        (*A)[i][J_][k][J_] += mu * b[i][k];
                 }
               break;
             }
           case Law::neo_hooke:
             {
               // P = mu F + (lambda ln J - mu) F^-T; with H = F^-T,
-              // dP_iJ/dF_kL = mu delta_ik delta_JL + lambda H_iJ H_kL
-              //               - (lambda ln J - mu) H_kJ H_iL
+              // A = mu d_ik d_JL + lambda H_iJ H_kL - (lambda ln J - mu) H_kJ
+              // H_iL
               const Tensor<2, 3> H     = transpose(invert(F));
               const double       log_J = std::log(J);
               const double       c2    = lambda * log_J - mu;
               P                        = mu * F + c2 * H;
               if (A != nullptr)
-                for (unsigned int i = 0; i < 3; ++i)
-                  for (unsigned int J_ = 0; J_ < 3; ++J_)
-                    for (unsigned int k = 0; k < 3; ++k)
-                      for (unsigned int L = 0; L < 3; ++L)
-                        (*A)[i][J_][k][L] = (i == k && J_ == L ? mu : 0.) +
-                                            lambda * H[i][J_] * H[k][L] -
-                                            c2 * H[k][J_] * H[i][L];
+                {
+                  for (unsigned int i = 0; i < 3; ++i)
+                    for (unsigned int J_ = 0; J_ < 3; ++J_)
+                      for (unsigned int k = 0; k < 3; ++k)
+                        for (unsigned int L = 0; L < 3; ++L)
+                          (*A)[i][J_][k][L] = lambda * H[i][J_] * H[k][L] -
+                                              c2 * H[k][J_] * H[i][L];
+                  for (unsigned int i = 0; i < 3; ++i)
+                    for (unsigned int J_ = 0; J_ < 3; ++J_)
+                      (*A)[i][J_][i][J_] += mu;
+                }
               break;
             }
         }

@@ -1,3 +1,7 @@
+// Displacements at arbitrary points (fe): the cell and reference coordinates
+// of every point, found once, then any FE field on the mesh evaluated there
+// by its shape functions (Output/Evaluation points, the accuracy benchmark).
+
 #include <deal.II/base/bounding_box.h>
 #include <deal.II/dofs/dof_accessor.h>
 #include <deal.II/fe/fe.h>

@@ -1,3 +1,7 @@
+// Sparse Cholesky factorisation by SuiteSparse CHOLMOD (fe): the direct
+// solver of the linear solver helper, its ordering and symbolic analysis
+// reused when only the matrix values change.
+
 #include <softface/core/error.h>
 #include <softface/fe/sparse_cholesky.h>
 

@@ -1,3 +1,7 @@
+// Reading mesh files (io): gmsh .msh, legacy VTK and VTK XML .vtu by
+// extension, each into the scene's triangulation, every failure one message
+// that names the file. Called by Scene; the cells are checked afterwards.
+
 #include <deal.II/grid/grid_in.h>
 
 #include <softface/core/error.h>

@@ -1,4 +1,8 @@
+// Points and point values as CSV (io): reading x,y,z evaluation points and
+// writing x,y,z,ux,uy,uz rows.
+
 #include <softface/core/error.h>
+#include <softface/io/output_file.h>
 #include <softface/io/points_csv.h>
 
 #include <algorithm>
@@ -44,9 +48,7 @@ namespace softface
                          const std::vector<Tensor<1, 3>> &values,
                          const std::string               &filename)
   {
-    std::ofstream out(filename);
-    if (!out)
-      throw Error("Cannot write '" + filename + "'.");
+    std::ofstream out = open_output_file(filename);
     out << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
     for (unsigned int i = 0; i < points.size(); ++i)
       out << points[i][0] << ',' << points[i][1] << ',' << points[i][2] << ','

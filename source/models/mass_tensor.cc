@@ -145,13 +145,13 @@ namespace softface
       // seed eqs. 9-10: sum the tetrahedra's tensors per point and per edge.
       coupling.assign(mesh->neighbour.size(), Block{});
       diagonal.assign(n, Block{});
-      const Lame   lame = scene->material.lame();
-      unsigned int c    = 0;
+      const Tensor<4, 3> A = Elasticity::linear_tangent(scene->material.lame());
+      unsigned int       c = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
           const auto                  &p = mesh->tetrahedra[c++];
           const Elasticity::CellMatrix K = Elasticity::p1_stiffness(
-            Tetrahedron::geometry(Tetrahedron::vertices(cell)), lame);
+            Tetrahedron::geometry(Tetrahedron::vertices(cell)), A);
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = 0; b < 4; ++b)
               {

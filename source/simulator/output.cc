@@ -6,6 +6,7 @@
 #include <deal.II/numerics/data_out.h>
 
 #include <softface/core/error.h>
+#include <softface/io/output_file.h>
 #include <softface/simulator/output.h>
 
 #include <algorithm>
@@ -24,18 +25,6 @@ namespace softface
       std::replace(name.begin(), name.end(), ' ', '_');
       return name;
     }
-
-    namespace
-    {
-      std::ofstream
-      open(const std::string &filename)
-      {
-        std::ofstream out(filename);
-        if (!out)
-          throw Error("Cannot write '" + filename + "'.");
-        return out;
-      }
-    } // namespace
 
     void
     write_vtu(const Scene                         &scene,
@@ -82,7 +71,7 @@ namespace softface
       flags.compression_level = DataOutBase::VtkFlags::best_speed;
       data_out.set_flags(flags);
 
-      std::ofstream out = open(filename);
+      std::ofstream out = open_output_file(filename);
       data_out.write_vtu(out);
     }
 
@@ -91,7 +80,7 @@ namespace softface
                               const Vector<double> &u,
                               const std::string    &filename)
     {
-      std::ofstream out = open(filename);
+      std::ofstream out = open_output_file(filename);
       out << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
       const auto &vertices = scene.triangulation.get_vertices();
       for (unsigned int v = 0; v < vertices.size(); ++v)

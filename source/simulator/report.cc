@@ -4,6 +4,7 @@
 // reference model. Nothing here asks which model ran.
 
 #include <softface/core/error.h>
+#include <softface/io/output_file.h>
 #include <softface/simulator/report.h>
 
 #include <charconv>
@@ -18,14 +19,6 @@ namespace softface
   {
     namespace
     {
-      std::ofstream
-      open(const std::string &filename)
-      {
-        std::ofstream out(filename);
-        if (!out)
-          throw Error("Cannot write '" + filename + "'.");
-        return out;
-      }
 
       // The shortest text that reads back as the same double.
       std::string
@@ -200,7 +193,7 @@ namespace softface
                       const std::string           &reference_model,
                       const std::string           &filename)
     {
-      std::ofstream out = open(filename);
+      std::ofstream out = open_output_file(filename);
       out << "model,status,n_tets,n_vertices,n_free_dofs,n_dofs,setup_s,"
              "solve_s,iterations,relative_residual,max_displacement_mm,"
              "reference_model,max_diff_to_reference_mm,"
@@ -246,7 +239,7 @@ namespace softface
                      const std::vector<ModelRun> &runs,
                      const std::string           &filename)
     {
-      std::ofstream out = open(filename);
+      std::ofstream out = open_output_file(filename);
       for (const ModelRun &run : runs)
         if (!run.failed)
           {

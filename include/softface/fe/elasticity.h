@@ -43,9 +43,16 @@ namespace softface
     CellMatrix
     p1_tangent(const Tetrahedron::Geometry &tetrahedron, const Tensor<4, 3> &A);
 
-    /// The linear-elastic stiffness of a P1 tetrahedron (seed eq. 8).
+    /// A of the linear law (every law's at F = I): what the linear-elastic
+    /// stiffness contracts; one per material.
+    Tensor<4, 3>
+    linear_tangent(const Lame &lame);
+
+    /// The linear-elastic stiffness of a P1 tetrahedron (seed eq. 8), given
+    /// linear_tangent() of its material.
     CellMatrix
-    p1_stiffness(const Tetrahedron::Geometry &tetrahedron, const Lame &lame);
+    p1_stiffness(const Tetrahedron::Geometry &tetrahedron,
+                 const Tensor<4, 3>          &linear_tangent);
 
     /// What one P1 tetrahedron contributes at vertex displacements u.
     struct P1Response
