@@ -16,7 +16,8 @@ work=$root/build/benchmarks/linear_fem
 [ -x "$softface" ] || { echo "build softface first (./run.sh or ./test.sh)"; exit 1; }
 
 sizes="30000 100000 200000 500000"
-[ "${1:-}" = "--quick" ] && sizes="30000 100000"
+# --quick writes its (coarse) results beside its runs, not over doc/results.
+[ "${1:-}" = "--quick" ] && sizes="30000 100000" && results=$work/quick-results
 solvers=("cg amg" "direct" "gmres jacobi")
 
 mkdir -p "$work" "$results"
