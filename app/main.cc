@@ -19,12 +19,28 @@ main(int argc, char **argv)
   softface::limit_blas_threads();
 
   const std::string usage =
-    "usage: softface SCENE.prm        run a scene\n"
+    "usage: softface SCENE.prm            run a scene\n"
+    "       softface phantom SCENE.prm    the patient stages of a patient "
+    "scene, up to\n"
+    "       softface segment SCENE.prm    the phantom CT, the segmentation and "
+    "surfaces,\n"
+    "       softface mesh SCENE.prm       or the bone parts and the "
+    "tetrahedral mesh\n"
     "       softface --print-parameters   print every parameter with its "
     "default and documentation\n"
     "       softface --help\n";
   try
     {
+      if (argc == 3)
+        {
+          const std::string stage = argv[1];
+          if (stage != "phantom" && stage != "segment" && stage != "mesh")
+            {
+              std::cerr << usage;
+              return 2;
+            }
+          return softface::Simulator::run_patient_stages(argv[2], stage);
+        }
       if (argc != 2)
         {
           std::cerr << usage;

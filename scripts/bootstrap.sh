@@ -3,7 +3,10 @@
 
 # Debian packages softface needs to build and test. OpenBLAS replaces the reference
 # BLAS that the direct solver (CHOLMOD) would otherwise run on 30x slower; ccache is optional.
-SOFTFACE_PACKAGES="cmake g++ make libdeal.ii-dev libsuitesparse-dev libopenblas0-pthread numdiff clang-format"
+# The patient pipeline adds ITK (volumes, segmentation), VTK (surfaces), CGAL (Mesh_3),
+# Eigen and nanoflann (ICP).
+SOFTFACE_PACKAGES="cmake g++ make libdeal.ii-dev libsuitesparse-dev libopenblas0-pthread numdiff clang-format
+  libinsighttoolkit5-dev libvtk9-dev libcgal-dev libeigen3-dev libnanoflann-dev"
 
 softface_missing_packages()
 {

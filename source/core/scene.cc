@@ -11,7 +11,9 @@
 #include <softface/core/error.h>
 #include <softface/core/scene.h>
 #include <softface/io/mesh_reader.h>
+#include <softface/patient/pipeline.h>
 
+#include <map>
 #include <numeric>
 #include <sstream>
 
@@ -48,15 +50,19 @@ namespace softface
 
   void
   Scene::declare_parameters(ParameterHandler               &prm,
-                            const std::vector<std::string> &segment_names)
+                            const std::vector<std::string> &segment_names,
+                            const std::vector<std::string> &cut_names)
   {
     prm.enter_subsection("Scene");
     prm.declare_entry("Mesh source",
                       "cube",
-                      Patterns::Selection("cube|file"),
+                      Patterns::Selection("cube|file|patient"),
                       "Where the tetrahedral mesh comes from: 'cube' generates "
                       "the seed's cube benchmark (subsection Cube), 'file' "
-                      "reads 'Mesh file'.");
+                      "reads 'Mesh file', 'patient' runs the patient pipeline "
+                      "(subsection Patient: CT or phantom -> segmentation -> "
+                      "osteotomy -> mesh); its segments are found by their "
+                      "'Seed point'.");
     prm.declare_entry(
       "Mesh file",
       "",
@@ -88,10 +94,27 @@ namespace softface
                           Patterns::List(Patterns::Integer(0, 255)),
                           "The vertices of boundary faces with these boundary "
                           "ids are join points of this segment.");
+        prm.declare_entry("Seed point",
+                          "",
+                          Patterns::Anything(),
+                          "Patient scenes: a point 'x, y, z' (mm) in this "
+                          "segment's bone; the bone part of the osteotomy "
+                          "that holds it is the segment, and the soft tissue "
+                          "touching that part are its join points.");
         prm.leave_subsection();
       }
+    Patient::PatientParameters::declare_parameters(prm, cut_names);
     prm.leave_subsection();
     Material::declare_parameters(prm);
+  }
+
+  std::vector<std::string>
+  Scene::cut_names(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Scene");
+    const auto names = Patient::PatientParameters::cut_names(prm);
+    prm.leave_subsection();
+    return names;
   }
 
   std::vector<std::string>
@@ -105,7 +128,9 @@ namespace softface
 
   void
   Scene::parse_parameters(ParameterHandler  &prm,
-                          const std::string &input_directory)
+                          const std::string &input_directory,
+                          const std::string &patient_work_directory,
+                          std::ostream      *log)
   {
     material.parse_parameters(prm);
 
@@ -126,15 +151,64 @@ namespace softface
           parse_ids<types::material_id>(prm.get("Material ids"));
         segment.boundary_ids =
           parse_ids<types::boundary_id>(prm.get("Boundary ids"));
+        const std::string seed = prm.get("Seed point");
+        if (!seed.empty())
+          {
+            try
+              {
+                segment.seed_point = Utilities::string_to_double(
+                  Utilities::split_string_list(seed));
+              }
+            catch (const std::exception &)
+              {
+                segment.seed_point.clear();
+              }
+            if (segment.seed_point.size() != 3)
+              throw Error("Scene/Segment " + name +
+                          "/Seed point: expected 'x, y, z' (got '" + seed +
+                          "').");
+          }
         prm.leave_subsection();
         segments.push_back(segment);
       }
+    Patient::PatientParameters patient;
+    if (source == "patient")
+      patient.parse_parameters(prm, input_directory, patient_work_directory);
     prm.leave_subsection();
 
     if (source == "cube")
       {
         Mesh::generate_cube(cube, triangulation);
         mesh_description = "generated cube";
+      }
+    else if (source == "patient")
+      {
+        // The patient pipeline makes the mesh; each segment's join points
+        // are the faces touching its bone part.
+        std::vector<Patient::SegmentSeed> seeds;
+        for (const auto &segment : segments)
+          {
+            if (segment.seed_point.size() != 3)
+              throw Error("Scene/Segment " + segment.name +
+                          ": a patient scene's segment needs a 'Seed point' "
+                          "in its bone.");
+            seeds.push_back({segment.name,
+                             {{segment.seed_point[0],
+                               segment.seed_point[1],
+                               segment.seed_point[2]}}});
+          }
+        std::ostringstream quiet;
+        const auto         model =
+          Patient::build_patient_model(patient,
+                                       seeds,
+                                       log != nullptr ? *log : quiet);
+        patient_figures = model.figures;
+        Mesh::read_file(model.mesh_file, triangulation);
+        resolve_shared_join_points = true;
+        for (unsigned int s = 0; s < segments.size(); ++s)
+          for (const auto id : model.segment_boundary_ids[s])
+            segments[s].boundary_ids.insert(id);
+        mesh_description = "'" + model.mesh_file + "' (patient)";
       }
     else
       {
@@ -183,52 +257,66 @@ namespace softface
     const unsigned int free = numbers::invalid_unsigned_int;
     segment_of_vertex.assign(triangulation.n_vertices(), free);
     n_joins_of_segment.assign(segments.size(), 0);
+    n_shared_join_points = 0;
 
-    const auto claim = [&](const unsigned int vertex, const unsigned int s) {
-      unsigned int &owner = segment_of_vertex[vertex];
-      if (owner == s)
-        return;
-      if (owner != free)
-        {
-          std::ostringstream m;
-          m << "Scene: vertex " << vertex << " at ("
-            << triangulation.get_vertices()[vertex] << ") touches both bone "
-            << "segment '" << segments[owner].name << "' and '"
-            << segments[s].name << "'; a join point belongs to one segment.";
-          throw Error(m.str());
-        }
-      owner = s;
-      ++n_joins_of_segment[s];
-    };
-
+    // How many of a vertex's bone cells and faces belong to each segment.
+    std::vector<std::map<unsigned int, unsigned int>> claims(
+      triangulation.n_vertices());
     for (unsigned int s = 0; s < segments.size(); ++s)
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          if (segments[s].material_ids.count(cell->material_id()))
+            for (const unsigned int v : cell->vertex_indices())
+              ++claims[cell->vertex_index(v)][s];
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary() &&
+                segments[s].boundary_ids.count(face->boundary_id()))
+              for (const unsigned int v : face->vertex_indices())
+                ++claims[face->vertex_index(v)][s];
+        }
+
+    for (unsigned int vertex = 0; vertex < claims.size(); ++vertex)
       {
-        for (const auto &cell : triangulation.active_cell_iterators())
-          {
-            if (segments[s].material_ids.count(cell->material_id()))
-              for (const unsigned int v : cell->vertex_indices())
-                claim(cell->vertex_index(v), s);
-            for (const auto &face : cell->face_iterators())
-              if (face->at_boundary() &&
-                  segments[s].boundary_ids.count(face->boundary_id()))
-                for (const unsigned int v : face->vertex_indices())
-                  claim(face->vertex_index(v), s);
-          }
-        if (n_joins_of_segment[s] == 0)
+        const auto &c = claims[vertex];
+        if (c.empty())
+          continue;
+        if (c.size() > 1 && !resolve_shared_join_points)
           {
             std::ostringstream m;
-            m << "Scene: bone segment '" << segments[s].name
-              << "' selects no vertex of mesh " << mesh_description
-              << " (material ids {";
-            for (const auto id : segments[s].material_ids)
-              m << ' ' << static_cast<unsigned int>(id);
-            m << " }, boundary ids {";
-            for (const auto id : segments[s].boundary_ids)
-              m << ' ' << static_cast<unsigned int>(id);
-            m << " }).";
+            m << "Scene: vertex " << vertex << " at ("
+              << triangulation.get_vertices()[vertex]
+              << ") touches both bone segment '"
+              << segments[c.begin()->first].name << "' and '"
+              << segments[std::next(c.begin())->first].name
+              << "'; a join point belongs to one segment.";
             throw Error(m.str());
           }
+        // Where a cut leaves a vertex touching two bone parts (patient
+        // meshes), the tissue covers the saw kerf and is attached to
+        // neither part: the vertex is free.
+        if (c.size() > 1)
+          {
+            ++n_shared_join_points;
+            continue;
+          }
+        segment_of_vertex[vertex] = c.begin()->first;
+        ++n_joins_of_segment[c.begin()->first];
       }
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      if (n_joins_of_segment[s] == 0)
+        {
+          std::ostringstream m;
+          m << "Scene: bone segment '" << segments[s].name
+            << "' selects no vertex of mesh " << mesh_description
+            << " (material ids {";
+          for (const auto id : segments[s].material_ids)
+            m << ' ' << static_cast<unsigned int>(id);
+          m << " }, boundary ids {";
+          for (const auto id : segments[s].boundary_ids)
+            m << ' ' << static_cast<unsigned int>(id);
+          m << " }).";
+          throw Error(m.str());
+        }
 
     is_join_dof.assign(dof_handler.n_dofs(), false);
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)

@@ -90,10 +90,16 @@ namespace softface
                         SparseMatrix<double>    &matrix)
     {
       for (unsigned int row = 0; row < matrix.m(); ++row)
-        for (auto entry = matrix.begin(row); entry != matrix.end(row); ++entry)
-          if ((is_join[row] || is_join[entry->column()]) &&
-              entry->column() != row)
-            entry->value() = 0.;
+        {
+          for (auto entry = matrix.begin(row); entry != matrix.end(row);
+               ++entry)
+            if ((is_join[row] || is_join[entry->column()]) &&
+                entry->column() != row)
+              entry->value() = 0.;
+          // A join DoF whose cells were all left out (see right_hand_side).
+          if (is_join[row] && matrix.diag_element(row) == 0.)
+            matrix.diag_element(row) = 1.;
+        }
     }
 
     void
@@ -115,7 +121,10 @@ namespace softface
       rhs *= -1.;
       for (unsigned int i = 0; i < n; ++i)
         if (is_join[i])
-          rhs[i] = unconstrained.diag_element(i) * d[i];
+          rhs[i] = (unconstrained.diag_element(i) != 0. ?
+                      unconstrained.diag_element(i) :
+                      1.) *
+                   d[i];
     }
 
     double

@@ -119,14 +119,15 @@ namespace softface
     }
 
     bool
-    assemble(const MaterialLaw::Law law,
-             const Lame            &lame,
-             const Mapping<3>      &mapping,
-             const DoFHandler<3>   &dof_handler,
-             const Quadrature<3>   &quadrature,
-             const Vector<double>  &u,
-             Vector<double>        &forces,
-             SparseMatrix<double>  *tangent)
+    assemble(const MaterialLaw::Law   law,
+             const Lame              &lame,
+             const Mapping<3>        &mapping,
+             const DoFHandler<3>     &dof_handler,
+             const Quadrature<3>     &quadrature,
+             const Vector<double>    &u,
+             Vector<double>          &forces,
+             SparseMatrix<double>    *tangent,
+             const std::vector<bool> *may_skip_cell)
     {
       const FiniteElement<3>              &fe = dof_handler.get_fe();
       FEValues<3>                          fe_values(mapping,
@@ -159,9 +160,10 @@ namespace softface
           cell->get_dof_indices(dofs);
           for (unsigned int i = 0; i < n; ++i)
             u_cell[i] = u[dofs[i]];
-          f_cell = 0;
-          K_cell = 0;
-          for (unsigned int q = 0; q < quadrature.size(); ++q)
+          f_cell       = 0;
+          K_cell       = 0;
+          bool refused = false;
+          for (unsigned int q = 0; q < quadrature.size() && !refused; ++q)
             {
               Tensor<2, 3> F = unit_symmetric_tensor<3>();
               for (unsigned int i = 0; i < n; ++i)
@@ -171,7 +173,13 @@ namespace softface
                 }
               if (!MaterialLaw::first_piola_kirchhoff(
                     law, lame, F, P, tangent != nullptr ? &A : nullptr))
-                return false;
+                {
+                  if (may_skip_cell == nullptr ||
+                      !(*may_skip_cell)[cell->active_cell_index()])
+                    return false;
+                  refused = true;
+                  continue;
+                }
               const double JxW = fe_values.JxW(q);
               for (unsigned int i = 0; i < n; ++i)
                 f_cell[i] += (P[component[i]] * grad[i]) * JxW;
@@ -189,6 +197,8 @@ namespace softface
                     K_cell(i, j) += G[component[j]] * grad[j];
                 }
             }
+          if (refused)
+            continue;
           for (unsigned int i = 0; i < n; ++i)
             forces[dofs[i]] += f_cell[i];
           if (tangent == nullptr)

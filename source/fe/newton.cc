@@ -55,16 +55,19 @@ namespace softface
       throw Error(model + ": 'Minimum load increment' must be positive.");
   }
 
-  LoadSteppedNewton::LoadSteppedNewton(const Parameters        &parameters,
-                                       const Evaluate          &evaluate,
-                                       SparseMatrix<double>    &tangent,
-                                       const std::vector<bool> &is_join,
-                                       LinearSolver            &linear_solver)
+  LoadSteppedNewton::LoadSteppedNewton(
+    const Parameters                   &parameters,
+    const Evaluate                     &evaluate,
+    SparseMatrix<double>               &tangent,
+    const std::vector<bool>            &is_join,
+    LinearSolver                       &linear_solver,
+    const std::function<std::string()> &where_refused)
       : prm(parameters)
       , evaluate(evaluate)
       , tangent(tangent)
       , is_join(is_join)
       , linear_solver(linear_solver)
+      , where_refused(where_refused)
   {}
 
   LoadSteppedNewton::StepResult
@@ -98,7 +101,8 @@ namespace softface
           TimerOutput::Scope scope(timer, "assembly");
           if (!evaluated && !evaluate(u, forces, &tangent))
             {
-              result.reason = "a tetrahedron is inverted";
+              result.reason = "a tetrahedron is inverted" +
+                              (where_refused ? where_refused() : "");
               return result;
             }
         }
@@ -183,8 +187,10 @@ namespace softface
           }
         if (!accepted)
           {
-            result.reason = first ? "the predictor inverts a tetrahedron" :
-                                    "the line search found no descent";
+            result.reason =
+              first ? "the predictor inverts a tetrahedron" +
+                        (where_refused ? where_refused() : std::string()) :
+                      "the line search found no descent";
             return result;
           }
         u.swap(trial);

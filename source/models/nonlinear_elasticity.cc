@@ -121,6 +121,8 @@ namespace softface
                                   Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("setup() first."));
+      last_report = LoadSteppedNewton::Report();
+      refusal.clear();
       Vector<double> motion(is_join.size()), u;
       join_motion(prescribed, motion);
 
@@ -141,7 +143,8 @@ namespace softface
         },
         tangent,
         is_join,
-        linear_solver);
+        linear_solver,
+        [this]() { return refusal; });
       last_report =
         newton.solve(motion, u, timer(), progress, description, hint);
       vertex_values(u, displacement);
@@ -157,6 +160,12 @@ namespace softface
       add_detail("linear iterations", last_report.linear_iterations);
       if (solver_parameters.method != "direct")
         add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    const std::string &
+    NonlinearElasticity::last_refusal() const
+    {
+      return refusal;
     }
 
     const SparsityPattern &

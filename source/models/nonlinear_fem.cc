@@ -6,6 +6,8 @@
 #include <softface/fe/elasticity.h>
 #include <softface/models/nonlinear_fem.h>
 
+#include <sstream>
+
 namespace softface
 {
   namespace Models
@@ -28,11 +30,16 @@ namespace softface
         const auto timed = phase("cell geometry");
         cell_dofs.clear();
         cell_geometry.clear();
+        cell_has_free_vertex.clear();
         for (const auto &cell : scene->triangulation.active_cell_iterators())
           {
             cell_geometry.push_back(
               Tetrahedron::geometry(Tetrahedron::vertices(cell)));
             cell_dofs.push_back(ConstrainedSystem::cell_dofs(*scene, cell));
+            bool free = false;
+            for (const auto dof : cell_dofs.back())
+              free |= !is_join[dof];
+            cell_has_free_vertex.push_back(free);
           }
       }
 
@@ -103,7 +110,26 @@ namespace softface
                                        u_cell,
                                        tangent != nullptr,
                                        response))
-            return false;
+            {
+              // A cell of join points only acts on prescribed DoFs: a
+              // planning that crushes it (across an osteotomy's kerf) is not
+              // the tissue's doing, and it is left out.
+              if (!cell_has_free_vertex[c])
+                continue;
+              // Say where: the cell and its centroid in the reference frame.
+              std::ostringstream where;
+              const auto         cell =
+                std::next(scene->triangulation.begin_active(), c);
+              where << " (cell " << c << " at (" << cell->center() << "), " <<
+                [&]() {
+                  unsigned int n_join = 0;
+                  for (const auto dof : dofs)
+                    n_join += is_join[dof];
+                  return n_join / 3;
+                }() << " of its vertices join points)";
+              refusal = where.str();
+              return false;
+            }
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               forces[dofs[3 * a + i]] += response.force[a][i];

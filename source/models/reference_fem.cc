@@ -110,6 +110,16 @@ namespace softface
                   }
         }
 
+      all_join_cell.assign(scene->triangulation.n_active_cells(), false);
+      for (const auto &cell : dof_handler->active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          bool all = true;
+          for (const auto i : dofs)
+            all &= is_join[i];
+          all_join_cell[cell->active_cell_index()] = all;
+        }
+
       DynamicSparsityPattern dsp(n, n);
       DoFTools::make_sparsity_pattern(*dof_handler, dsp);
       sparsity.copy_from(dsp);
@@ -130,7 +140,8 @@ namespace softface
                                   QGaussSimplex<3>(3),
                                   u,
                                   forces,
-                                  tangent);
+                                  tangent,
+                                  &all_join_cell);
     }
 
     void

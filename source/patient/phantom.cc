@@ -45,11 +45,11 @@ namespace softface
 
       // Distance to the segment a-b in a frame scaled by s, minus r.
       inline double
-      capsule(const Vec3   &x,
-              const Vec3   &a,
-              const Vec3   &b,
-              const double  r,
-              const Vec3   &s = {{1., 1., 1.}})
+      capsule(const Vec3  &x,
+              const Vec3  &a,
+              const Vec3  &b,
+              const double r,
+              const Vec3  &s = {{1., 1., 1.}})
       {
         double ab[3], ax[3], dot = 0., len2 = 0.;
         for (unsigned int d = 0; d < 3; ++d)
@@ -100,8 +100,8 @@ namespace softface
             x[1] > y0 + a * half * half + r + 4.)
           return 10.;
         const double zc = 0.5 * (z_low + z_high), hz = 0.5 * (z_high - z_low);
-        double       d  = 1e9;
-        const int    n  = 12;
+        double       d = 1e9;
+        const int    n = 12;
         for (int s = 0; s < n; ++s)
           {
             const double x0 = -half + 2. * half * s / n,
@@ -129,7 +129,7 @@ namespace softface
       constexpr double occlusion  = -20.; // occlusal plane, z
       constexpr double skin_depth = 2.;   // mm under the skin surface
       constexpr double fat_depth  = 6.;   // skin + subcutaneous fat
-    } // namespace
+    }                                     // namespace
 
     void
     PhantomParameters::declare_parameters(ParameterHandler &prm)
@@ -212,10 +212,10 @@ namespace softface
       prm.enter_subsection("Phantom");
       voxel_size    = prm.get_double("Voxel size");
       field_of_view = parse_vec3(prm.get("Field of view"), "Field of view");
-      centre        = parse_vec3(prm.get("Field of view centre"),
-                          "Field of view centre");
-      face_width    = prm.get_double("Face width");
-      face_height   = prm.get_double("Face height");
+      centre =
+        parse_vec3(prm.get("Field of view centre"), "Field of view centre");
+      face_width            = prm.get_double("Face width");
+      face_height           = prm.get_double("Face height");
       soft_tissue_thickness = prm.get_double("Soft tissue thickness");
       mandible_length       = prm.get_double("Mandible length");
       mandible_angle        = prm.get_double("Mandible angle");
@@ -244,15 +244,15 @@ namespace softface
       // The mandible: rami from the condyles down to the gonia, the body
       // forward to the symphysis, scaled by its length, turned by its
       // angle about the gonia, and moved by the profile.
-      condyle_right = {{-50. * W, 16., 12.}};
-      condyle_left  = {{50. * W, 16., 12.}};
+      condyle_right = {{-50. * W, 16., 7.}};
+      condyle_left  = {{50. * W, 16., 7.}};
       gonion_right  = {{-46. * W, 10., -60.}};
       gonion_left   = {{46. * W, 10., -60.}};
       const double profile_shift =
         prm.profile == "class II" ?
           -prm.jaw_discrepancy :
           (prm.profile == "class III" ? prm.jaw_discrepancy : 0.);
-      const double turn = (prm.mandible_angle - 120.) * M_PI / 180.;
+      const double turn  = (prm.mandible_angle - 120.) * M_PI / 180.;
       const auto   place = [&](const Vec3 &gonion, const Vec3 &p0) {
         Vec3 p;
         for (unsigned int d = 0; d < 3; ++d)
@@ -261,9 +261,9 @@ namespace softface
         p[1] -= profile_shift * (gonion[1] - p[1]) / (gonion[1] + 62.);
         return p;
       };
-      body_right      = place(gonion_right, {{-30. * W, -38., -52.}});
-      body_left       = place(gonion_left, {{30. * W, -38., -52.}});
-      symphysis_point = place(gonion_left, {{0., -62., -52.}});
+      body_right         = place(gonion_right, {{-30. * W, -38., -52.}});
+      body_left          = place(gonion_left, {{30. * W, -38., -52.}});
+      symphysis_point    = place(gonion_left, {{0., -62., -52.}});
       symphysis_point[0] = 0.;
       chin_advance       = -(symphysis_point[1] - (-62.));
       chin_drop          = -(symphysis_point[2] - (-52.));
@@ -305,26 +305,28 @@ namespace softface
       const double a = chin_advance, dz = chin_drop / H;
 
       double f = ellipsoid(p, {{0., 15., 75.}}, {{77., 97., 82.}}); // scalp
-      f = smin(f, ellipsoid(x, {{0., -28., 0.}}, {{60. * W, 60., 62.}}) - t, 12.);
+      f =
+        smin(f, ellipsoid(x, {{0., -28., 0.}}, {{60. * W, 60., 62.}}) - t, 12.);
       f = smin(f, capsule(p, {{0., 25., -125.}}, {{0., 12., -30.}}, 52.), 15.);
       for (const int s : {-1, 1})
         f = smin(f,
-                 ellipsoid(x, {{s * 42. * W, -50., 8.}}, {{22., 24., 28.}}) -
-                   t,
+                 ellipsoid(x, {{s * 42. * W, -50., 8.}}, {{22., 24., 28.}}) - t,
                  8.);
       f = smin(f, ellipsoid(x, {{0., -98., 20.}}, {{12., 18., 22.}}) - t, 6.);
       f = smin(f, ellipsoid(x, {{0., -86., 42.}}, {{9., 8., 16.}}) - t, 6.);
-      f = smin(f, ellipsoid(x, {{0., -84., -12.}}, {{24. * W, 8., 8.}}) - t, 4.);
-      f = smin(f,
-               ellipsoid(x, {{0., -82. - a, -29. - dz}}, {{22. * W, 8., 8.}}) -
-                 t,
-               4.);
-      f = smin(f,
-               ellipsoid(x, {{0., -66. - a, -62. - dz}}, {{26. * W, 16., 20.}}) -
-                 t,
-               8.);
+      f =
+        smin(f, ellipsoid(x, {{0., -84., -12.}}, {{24. * W, 8., 8.}}) - t, 4.);
+      f =
+        smin(f,
+             ellipsoid(x, {{0., -82. - a, -29. - dz}}, {{22. * W, 8., 8.}}) - t,
+             4.);
+      f =
+        smin(f,
+             ellipsoid(x, {{0., -66. - a, -62. - dz}}, {{26. * W, 16., 20.}}) -
+               t,
+             8.);
       // The mouth slit separates the lips down to the front teeth.
-      const double slit = std::max({std::abs(x[2] - occlusion) - 1.,
+      const double slit = std::max({std::abs(x[2] - occlusion) - 1.5,
                                     std::abs(x[0]) - 22. * W,
                                     x[1] + 74.});
       return std::max(f, -slit);
@@ -346,11 +348,21 @@ namespace softface
       const double cranium =
         std::max(ellipsoid(p, {{0., 15., 75.}}, {{70., 90., 75.}}),
                  -brain_function(p));
-      double f =
-        smin(cranium, ellipsoid(x, {{0., -38., 25.}}, {{52. * W, 40., 36.}}), 8.);
+      double f = smin(cranium,
+                      ellipsoid(x, {{0., -38., 25.}}, {{52. * W, 40., 36.}}),
+                      8.);
       for (const int s : {-1, 1}) // orbits
-        f = std::max(f, -ellipsoid(p, {{s * 32. * W, -62., 45.}}, {{18., 20., 17.}}));
-      return f;
+        f = std::max(
+          f, -ellipsoid(p, {{s * 32. * W, -66., 45.}}, {{16., 16., 15.}}));
+      // The upper alveolar process holds the teeth's roots.
+      const double alveolus = arch({{p[0] / W, p[1], p[2]}},
+                                   -66.,
+                                   0.025,
+                                   occlusion + 6. * prm.face_height,
+                                   occlusion + 24. * prm.face_height,
+                                   30.,
+                                   6.5);
+      return smin(f, alveolus, 3.);
     }
 
     double
@@ -360,7 +372,7 @@ namespace softface
       return arch({{p[0] / W, p[1], p[2]}},
                   -68.,
                   0.025,
-                  occlusion + 1.,
+                  occlusion + 1.5,
                   occlusion + 12. * prm.face_height,
                   28.,
                   4.);
@@ -375,7 +387,7 @@ namespace softface
                   -66.,
                   0.025,
                   occlusion - 12. * prm.face_height,
-                  occlusion - 1.,
+                  occlusion - 1.5,
                   26.,
                   3.8);
     }
@@ -388,17 +400,29 @@ namespace softface
         return 10.;
       const Vec3 scale{{1., 1., 2.}};
       double     f = std::min({capsule(x, gonion_right, body_right, 6.5, scale),
-                           capsule(x, body_right, symphysis_point, 6.5, scale),
-                           capsule(x, symphysis_point, body_left, 6.5, scale),
-                           capsule(x, body_left, gonion_left, 6.5, scale)});
+                               capsule(x, body_right, symphysis_point, 6.5, scale),
+                               capsule(x, symphysis_point, body_left, 6.5, scale),
+                               capsule(x, body_left, gonion_left, 6.5, scale)});
       for (const int s : {-1, 1})
         {
           const Vec3 &g = gonion(s), &c = condyle(s);
-          f = smin(f,
-                   capsule(x, g, {{c[0], c[1], c[2] - 6.}}, 6., {{0.55, 1.8, 1.}}),
-                   4.);
+          f = smin(
+            f,
+            capsule(x, g, {{c[0], c[1], c[2] - 6.}}, 6., {{0.55, 1.8, 1.}}),
+            4.);
           f = smin(f, ellipsoid(x, c, {{9., 6., 6.}}), 3.);
         }
+      // The lower alveolar process, riding on the mandible's front.
+      const double W = prm.face_width;
+      f              = smin(f,
+               arch({{x[0] / W, x[1] + chin_advance, x[2] + chin_drop}},
+                    -64.,
+                    0.025,
+                    occlusion - 26. * prm.face_height,
+                    occlusion - 6. * prm.face_height,
+                    28.,
+                    6.),
+               3.);
       return smin(f, lower_teeth_function(x), 1.);
     }
 
@@ -429,8 +453,9 @@ namespace softface
       CTVolume ct;
       for (unsigned int d = 0; d < 3; ++d)
         {
-          ct.size[d] = std::max<std::size_t>(
-            2, std::lround(prm.field_of_view[d] / prm.voxel_size));
+          ct.size[d]    = std::max<std::size_t>(2,
+                                             std::lround(prm.field_of_view[d] /
+                                                         prm.voxel_size));
           ct.spacing[d] = prm.voxel_size;
           ct.origin[d] =
             prm.centre[d] - 0.5 * (ct.size[d] - 1) * prm.voxel_size;
@@ -446,7 +471,7 @@ namespace softface
       ct.values.assign(ct.n_voxels(), 0);
 
       // Labels at voxel centres, slab by slab on every core.
-      const std::size_t nk = ct.size[2];
+      const std::size_t  nk = ct.size[2];
       const unsigned int n_threads =
         std::max(1u, std::min(4u, std::thread::hardware_concurrency()));
       std::vector<std::thread> threads;
@@ -470,7 +495,7 @@ namespace softface
         {
           // Fillings in the first molars; each casts radial streaks in the
           // axial slices through it, fading with distance and height.
-          const double W = prm.face_width;
+          const double            W        = prm.face_width;
           const std::vector<Vec3> fillings = {
             {{-22. * W, -50., occlusion + 5.}},
             {{22. * W, -50., occlusion + 5.}},
@@ -488,7 +513,7 @@ namespace softface
                       if (std::abs(dz) > 8.)
                         continue;
                       const double dx = x[0] - c[0], dy = x[1] - c[1];
-                      const double r  = std::sqrt(dx * dx + dy * dy);
+                      const double r = std::sqrt(dx * dx + dy * dy);
                       if (r < 2.5 && std::abs(dz) < 2.)
                         v = 3000.f;
                       else if (r < 90.)
@@ -511,14 +536,15 @@ namespace softface
               x /= sum;
             const std::size_t stride =
               d == 0 ? 1 : (d == 1 ? ct.size[0] : ct.size[0] * ct.size[1]);
-            const long               n = ct.size[d];
-            std::vector<float>       line(n);
+            const long                        n = ct.size[d];
+            std::vector<float>                line(n);
             const std::array<std::size_t, 3> &sz = ct.size;
             for (std::size_t v = 0; v < image.size(); ++v)
               {
                 // Visit each line once, from its first voxel.
                 const std::size_t coordinate =
-                  d == 0 ? v % sz[0] : (d == 1 ? (v / sz[0]) % sz[1] : v / (sz[0] * sz[1]));
+                  d == 0 ? v % sz[0] :
+                           (d == 1 ? (v / sz[0]) % sz[1] : v / (sz[0] * sz[1]));
                 if (coordinate != 0)
                   continue;
                 for (long q = 0; q < n; ++q)
@@ -527,8 +553,8 @@ namespace softface
                   {
                     double s = 0.;
                     for (int o = -radius; o <= radius; ++o)
-                      s += w[o + radius] *
-                           line[std::clamp<long>(q + o, 0, n - 1)];
+                      s +=
+                        w[o + radius] * line[std::clamp<long>(q + o, 0, n - 1)];
                     image[v + q * stride] = s;
                   }
               }
@@ -538,8 +564,9 @@ namespace softface
       std::normal_distribution<double> gaussian(0., prm.noise);
       for (std::size_t v = 0; v < image.size(); ++v)
         {
-          const double value = image[v] + (prm.noise > 0. ? gaussian(random) : 0.);
-          ct.values[v]       = static_cast<std::int16_t>(
+          const double value =
+            image[v] + (prm.noise > 0. ? gaussian(random) : 0.);
+          ct.values[v] = static_cast<std::int16_t>(
             std::clamp(std::round(value), -1024., 3071.));
         }
     }

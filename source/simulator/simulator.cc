@@ -12,6 +12,7 @@
 #include <softface/fe/point_evaluation.h>
 #include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
+#include <softface/patient/pipeline.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
@@ -102,9 +103,10 @@ namespace softface
   void
   Simulator::declare_parameters(ParameterHandler               &prm,
                                 const std::vector<std::string> &segment_names,
-                                const std::vector<std::string> &moved_segments)
+                                const std::vector<std::string> &moved_segments,
+                                const std::vector<std::string> &cut_names)
   {
-    Scene::declare_parameters(prm, segment_names);
+    Scene::declare_parameters(prm, segment_names, cut_names);
     Planning::declare_parameters(prm, moved_segments);
     Models::declare_parameters(prm);
     OutputParameters::declare_parameters(prm);
@@ -122,7 +124,8 @@ namespace softface
 
     declare_parameters(prm,
                        Scene::segment_names(first_pass),
-                       Planning::moved_segment_names(first_pass));
+                       Planning::moved_segment_names(first_pass),
+                       Scene::cut_names(first_pass));
     prm.parse_input(filename);
   }
 
@@ -171,7 +174,10 @@ namespace softface
       std::filesystem::path(filename).parent_path().string();
     the_scene    = std::make_unique<Scene>();
     Scene &scene = *the_scene;
-    scene.parse_parameters(prm, input_directory);
+    scene.parse_parameters(prm,
+                           input_directory,
+                           output.directory + "/patient",
+                           &out);
     Planning planning;
     planning.parse_parameters(prm, scene);
 
@@ -315,6 +321,64 @@ namespace softface
             << std::endl;
         return 1;
       }
+    return 0;
+  }
+
+  int
+  Simulator::run_patient_stages(const std::string &filename,
+                                const std::string &stage,
+                                std::ostream      &out)
+  {
+    ParameterHandler prm;
+    read_parameters(filename, prm);
+    OutputParameters output;
+    output.parse_parameters(prm);
+    const std::string input_directory =
+      std::filesystem::path(filename).parent_path().string();
+
+    Patient::PatientParameters        patient;
+    std::vector<Patient::SegmentSeed> seeds;
+    prm.enter_subsection("Scene");
+    if (prm.get("Mesh source") != "patient")
+      throw Error(filename + ": 'softface " + stage +
+                  "' runs the patient stages of a scene with 'Scene/Mesh "
+                  "source = patient'.");
+    patient.parse_parameters(prm,
+                             input_directory,
+                             output.directory + "/patient");
+    for (const std::string &name :
+         Utilities::split_string_list(prm.get("Bone segments")))
+      {
+        prm.enter_subsection("Segment " + name);
+        const auto point = Utilities::split_string_list(prm.get("Seed point"));
+        prm.leave_subsection();
+        if (point.size() != 3)
+          throw Error("Scene/Segment " + name +
+                      ": a patient scene's segment needs a 'Seed point' "
+                      "'x, y, z' in its bone.");
+        seeds.push_back({name,
+                         {{Utilities::string_to_double(point[0]),
+                           Utilities::string_to_double(point[1]),
+                           Utilities::string_to_double(point[2])}}});
+      }
+    prm.leave_subsection();
+
+    out << "softface " << stage << ": " << filename << std::endl;
+    Timer      wall;
+    const auto model =
+      Patient::build_patient_model(patient,
+                                   seeds,
+                                   stage == "phantom" ?
+                                     Patient::Stage::phantom :
+                                     (stage == "segment" ?
+                                        Patient::Stage::segmentation :
+                                        Patient::Stage::mesh),
+                                   out);
+    for (const auto &[name, value] : model.figures)
+      out << "  " << name << ": " << value << '\n';
+    out << "Files in " << patient.work_directory << "/ (wall time "
+        << std::fixed << std::setprecision(1) << wall.wall_time() << " s)"
+        << std::endl;
     return 0;
   }
 

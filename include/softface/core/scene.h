@@ -11,8 +11,10 @@
 #include <softface/core/mesh.h>
 
 #include <array>
+#include <ostream>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softface
@@ -29,6 +31,9 @@ namespace softface
     std::string                  name;
     std::set<types::material_id> material_ids;
     std::set<types::boundary_id> boundary_ids;
+    /// A point in the segment's bone (patient scenes: which bone part of
+    /// the osteotomy is this segment); empty for other scenes.
+    std::vector<double> seed_point;
   };
 
   /**
@@ -47,11 +52,17 @@ namespace softface
 
     /**
      * The Scene and Material sections. One subsection "Segment <name>" is
-     * declared for each name in @p segment_names.
+     * declared for each name in @p segment_names, and one "Cut <name>" of
+     * the patient's osteotomy for each name in @p cut_names.
      */
     static void
     declare_parameters(ParameterHandler               &prm,
-                       const std::vector<std::string> &segment_names);
+                       const std::vector<std::string> &segment_names,
+                       const std::vector<std::string> &cut_names = {});
+
+    /// The names listed in "Scene/Patient/Osteotomy/Cuts".
+    static std::vector<std::string>
+    cut_names(ParameterHandler &prm);
 
     /// The names listed in "Scene/Bone segments" of a parsed handler.
     static std::vector<std::string>
@@ -59,10 +70,15 @@ namespace softface
 
     /**
      * Read the parameters, create or read the mesh (a relative mesh file
-     * name is taken relative to @p input_directory) and call setup().
+     * name is taken relative to @p input_directory; a patient's is made by
+     * the patient pipeline in @p patient_work_directory unless the scene
+     * names one, with its progress on @p log) and call setup().
      */
     void
-    parse_parameters(ParameterHandler &prm, const std::string &input_directory);
+    parse_parameters(ParameterHandler  &prm,
+                     const std::string &input_directory,
+                     const std::string &patient_work_directory = "patient",
+                     std::ostream      *log                    = nullptr);
 
     /**
      * Check the cells, distribute the DoFs, find the join points of every
@@ -109,6 +125,18 @@ namespace softface
     std::vector<BoneSegment> segments;
     /// Names the mesh in messages (file name or "generated cube").
     std::string mesh_description;
+    /**
+     * Whether a vertex that touches two segments' bone is free (patient
+     * meshes: every cut leaves such vertices, where the tissue covers the
+     * saw kerf and is attached to neither part) instead of an error
+     * (hand-made scenes, where it is a mistake in the segment definitions).
+     */
+    bool resolve_shared_join_points = false;
+    /// The vertices that touched two segments and were left free.
+    unsigned int n_shared_join_points = 0;
+
+    /// What the patient pipeline reported (stage, figure), if it ran.
+    std::vector<std::pair<std::string, std::string>> patient_figures;
 
   private:
     void

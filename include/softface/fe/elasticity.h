@@ -40,8 +40,10 @@ namespace softface
      * major-symmetric A (every hyperelastic law's), which makes the blocks
      * K[b][a] = K[a][b]^T exactly.
      */
-    CellMatrix
-    p1_tangent(const Tetrahedron::Geometry &tetrahedron, const Tensor<4, 3> &A);
+    void
+    p1_tangent(const Tetrahedron::Geometry &tetrahedron,
+               const Tensor<4, 3>          &A,
+               CellMatrix                  &K);
 
     /// A of the linear law (every law's at F = I): what the linear-elastic
     /// stiffness contracts; one per material.
@@ -83,17 +85,20 @@ namespace softface
      * Nodal forces (and, if @p tangent is not null, the tangent, assembled
      * from zero) of the displacement @p u on any vector-valued element of
      * @p dof_handler, by quadrature. Returns false if the law refuses F at a
-     * quadrature point.
+     * quadrature point, unless @p may_skip_cell marks the cell (by active
+     * cell index): such a cell is then left out (a cell of prescribed DoFs
+     * only, crushed by the planning).
      */
     bool
-    assemble(const MaterialLaw::Law law,
-             const Lame            &lame,
-             const Mapping<3>      &mapping,
-             const DoFHandler<3>   &dof_handler,
-             const Quadrature<3>   &quadrature,
-             const Vector<double>  &u,
-             Vector<double>        &forces,
-             SparseMatrix<double>  *tangent);
+    assemble(const MaterialLaw::Law   law,
+             const Lame              &lame,
+             const Mapping<3>        &mapping,
+             const DoFHandler<3>     &dof_handler,
+             const Quadrature<3>     &quadrature,
+             const Vector<double>    &u,
+             Vector<double>          &forces,
+             SparseMatrix<double>    *tangent,
+             const std::vector<bool> *may_skip_cell = nullptr);
   } // namespace Elasticity
 } // namespace softface
 

@@ -67,11 +67,14 @@ namespace softface
       std::vector<unsigned int> iterations_per_step;
     };
 
-    LoadSteppedNewton(const Parameters        &parameters,
-                      const Evaluate          &evaluate,
-                      SparseMatrix<double>    &tangent,
-                      const std::vector<bool> &is_join,
-                      LinearSolver            &linear_solver);
+    /// @p where_refused, if given, says where the last refused state was
+    /// refused (e.g. " (cell 12 at (1, 2, 3))"), for the failure reasons.
+    LoadSteppedNewton(const Parameters                   &parameters,
+                      const Evaluate                     &evaluate,
+                      SparseMatrix<double>               &tangent,
+                      const std::vector<bool>            &is_join,
+                      LinearSolver                       &linear_solver,
+                      const std::function<std::string()> &where_refused = {});
 
     /**
      * Carry @p u (zero on entry) to equilibrium with its join DoFs at
@@ -104,11 +107,12 @@ namespace softface
          TimerOutput          &timer,
          std::ostream         *progress);
 
-    const Parameters         prm;
-    const Evaluate           evaluate;
-    SparseMatrix<double>    &tangent;
-    const std::vector<bool> &is_join;
-    LinearSolver            &linear_solver;
+    const Parameters                   prm;
+    const Evaluate                     evaluate;
+    SparseMatrix<double>              &tangent;
+    const std::vector<bool>           &is_join;
+    LinearSolver                      &linear_solver;
+    const std::function<std::string()> where_refused;
 
     Report report;
     /// The largest unbalanced force a load step started with.

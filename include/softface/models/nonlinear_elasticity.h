@@ -56,6 +56,11 @@ namespace softface
       const SparsityPattern &
       sparsity_pattern() const;
 
+      /// Where evaluate() last refused a state (" (cell N at (x, y, z))"),
+      /// or empty.
+      const std::string &
+      last_refusal() const;
+
       /// The DoFs the model solves for.
       unsigned int
       n_dofs() const;
@@ -96,6 +101,8 @@ namespace softface
       SparsityPattern           sparsity;
       std::vector<Point<3>>     dof_points;
       std::vector<unsigned int> dof_component;
+      /// Set by evaluate() when it refuses a state.
+      mutable std::string refusal;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;

@@ -47,6 +47,10 @@ namespace softface
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
       std::vector<Tetrahedron::Geometry>                   cell_geometry;
       std::vector<unsigned int>                            cell_entry_positions;
+      /// False for cells whose every vertex is a join point: their forces
+      /// act on prescribed DoFs only, so where a planning crushes them
+      /// (across an osteotomy) they are left out instead of refused.
+      std::vector<bool> cell_has_free_vertex;
     };
   } // namespace Models
 } // namespace softface

@@ -75,6 +75,8 @@ namespace softface
       /// The DoF at each vertex DoF of the shared layout.
       std::vector<types::global_dof_index> at_vertex_dof;
       Vector<double>                       solution;
+      /// Cells all of whose DoFs are join DoFs (see NonlinearFEM).
+      std::vector<bool> all_join_cell;
     };
   } // namespace Models
 } // namespace softface

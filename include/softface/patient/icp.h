@@ -52,8 +52,8 @@ namespace softface
 
     struct IcpResult
     {
-      RigidTransform transform;   ///< maps the moving points onto the fixed
-      double         rms = 0.;    ///< over the accepted pairs, mm
+      RigidTransform transform;       ///< maps the moving points onto the fixed
+      double         rms        = 0.; ///< over the accepted pairs, mm
       unsigned int   iterations = 0;
       std::size_t    n_pairs    = 0; ///< accepted pairs in the last iteration
       bool           converged  = false;
@@ -69,10 +69,10 @@ namespace softface
      * Eigen). Throws an Error if fewer than three pairs remain.
      */
     IcpResult
-    icp(const std::vector<Vec3>   &moving,
-        const std::vector<Vec3>   &fixed,
-        const RigidTransform      &initial,
-        const IcpParameters       &parameters);
+    icp(const std::vector<Vec3> &moving,
+        const std::vector<Vec3> &fixed,
+        const RigidTransform    &initial,
+        const IcpParameters     &parameters);
   } // namespace Patient
 } // namespace softface
 

@@ -40,8 +40,8 @@ namespace softface
       std::string profile         = "class I";
       double      jaw_discrepancy = 6.; ///< mm, for class II and III
 
-      double       noise         = 15.;  ///< HU, standard deviation
-      double       blur          = 0.5;  ///< mm, Gaussian point spread
+      double       noise         = 15.; ///< HU, standard deviation
+      double       blur          = 0.5; ///< mm, Gaussian point spread
       bool         metal_streaks = false;
       unsigned int seed          = 1;
     };
@@ -77,6 +77,10 @@ namespace softface
       hounsfield_units();
 
       explicit Phantom(const PhantomParameters &parameters);
+
+      /// Changes whenever the anatomy does (so that a saved acquisition of
+      /// an older phantom is not taken for this one's).
+      static constexpr unsigned int anatomy_version = 3;
 
       /// Implicit skin surface: about the signed distance, negative inside.
       double
@@ -122,8 +126,7 @@ namespace softface
 
       PhantomParameters prm;
       // The mandible's landmarks after length, angle and profile.
-      Vec3              gonion_right, gonion_left, body_right, body_left,
-        symphysis_point;
+      Vec3 gonion_right, gonion_left, body_right, body_left, symphysis_point;
       Vec3 condyle_right, condyle_left;
       /// How far the chin moved forward (+) by length and profile.
       double chin_advance = 0.;

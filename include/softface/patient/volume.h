@@ -27,8 +27,8 @@ namespace softface
       std::array<std::size_t, 3> size{{0, 0, 0}};
       Vec3                       spacing{{1., 1., 1.}};
       Vec3                       origin{{0., 0., 0.}};
-      std::array<double, 9>      direction{{1., 0., 0., 0., 1., 0., 0., 0., 1.}};
-      std::vector<T>             values;
+      std::array<double, 9> direction{{1., 0., 0., 0., 1., 0., 0., 0., 1.}};
+      std::vector<T>        values;
 
       /// The same grid (size, spacing, origin, direction), values zero.
       template <typename U>
@@ -85,7 +85,9 @@ namespace softface
       continuous_index(const Vec3 &x) const
       {
         // D is orthonormal: its inverse is its transpose.
-        const double d[3] = {x[0] - origin[0], x[1] - origin[1], x[2] - origin[2]};
+        const double d[3] = {x[0] - origin[0],
+                             x[1] - origin[1],
+                             x[2] - origin[2]};
         Vec3         ijk;
         for (unsigned int c = 0; c < 3; ++c)
           ijk[c] = (direction[c] * d[0] + direction[3 + c] * d[1] +

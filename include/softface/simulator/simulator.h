@@ -32,7 +32,8 @@ namespace softface
     static void
     declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &segment_names,
-                       const std::vector<std::string> &moved_segments);
+                       const std::vector<std::string> &moved_segments,
+                       const std::vector<std::string> &cut_names = {});
 
     /// Fill @p prm from @p filename (both passes).
     static void
@@ -51,6 +52,17 @@ namespace softface
     run(const std::string &filename,
         std::ostream      &out = std::cout,
         std::ostream      &err = std::cerr);
+
+    /**
+     * Run the patient stages of the scene in @p filename up to @p stage
+     * ("phantom", "segment" or "mesh"; the subcommands of the same names),
+     * writing their files into the patient work directory. Returns the
+     * process exit code.
+     */
+    static int
+    run_patient_stages(const std::string &filename,
+                       const std::string &stage,
+                       std::ostream      &out = std::cout);
 
     /// After run(): the scene, every model's run and the reference model.
     const Scene &

@@ -47,9 +47,9 @@ namespace softface
       typename itk::Image<T, 3>::Pointer
       to_itk(const Volume<T> &volume)
       {
-        using Image = itk::Image<T, 3>;
-        auto                    image = Image::New();
-        typename Image::SizeType size;
+        using Image                         = itk::Image<T, 3>;
+        auto                          image = Image::New();
+        typename Image::SizeType      size;
         typename Image::SpacingType   spacing;
         typename Image::PointType     origin;
         typename Image::DirectionType direction;

@@ -58,7 +58,8 @@ namespace softface
       MaskImage::Pointer
       threshold(const FloatImage::Pointer &image, const double lower)
       {
-        auto filter = itk::BinaryThresholdImageFilter<FloatImage, MaskImage>::New();
+        auto filter =
+          itk::BinaryThresholdImageFilter<FloatImage, MaskImage>::New();
         filter->SetInput(image);
         filter->SetLowerThreshold(lower);
         filter->SetUpperThreshold(itk::NumericTraits<float>::max());
@@ -72,7 +73,8 @@ namespace softface
       CountImage::Pointer
       components(const MaskImage::Pointer &mask, const std::size_t min_voxels)
       {
-        auto cc = itk::ConnectedComponentImageFilter<MaskImage, CountImage>::New();
+        auto cc =
+          itk::ConnectedComponentImageFilter<MaskImage, CountImage>::New();
         cc->SetInput(mask);
         cc->SetFullyConnected(false);
         auto relabel =
@@ -86,9 +88,9 @@ namespace softface
       std::size_t
       count(const MaskImage::Pointer &mask)
       {
-        const auto  *v = mask->GetBufferPointer();
-        const auto   n = mask->GetLargestPossibleRegion().GetNumberOfPixels();
-        std::size_t  c = 0;
+        const auto *v = mask->GetBufferPointer();
+        const auto  n = mask->GetLargestPossibleRegion().GetNumberOfPixels();
+        std::size_t c = 0;
         for (std::size_t i = 0; i < n; ++i)
           c += v[i] != 0;
         return c;
@@ -116,7 +118,8 @@ namespace softface
       try
         {
           auto smoothing =
-            itk::SmoothingRecursiveGaussianImageFilter<CTImage, FloatImage>::New();
+            itk::SmoothingRecursiveGaussianImageFilter<CTImage,
+                                                       FloatImage>::New();
           smoothing->SetInput(to_itk(ct));
           smoothing->SetSigma(std::max(prm.smoothing, 1e-3));
           smoothing->Update();
@@ -141,8 +144,8 @@ namespace softface
         fill->Update();
         body_mask = fill->GetOutput();
       }
-      const auto body_pieces = components(body_mask, 1);
-      const auto *body_piece = body_pieces->GetBufferPointer();
+      const auto  body_pieces = components(body_mask, 1);
+      const auto *body_piece  = body_pieces->GetBufferPointer();
 
       // Bone: above the bone threshold inside the body; pieces smaller than
       // the minimum volume are noise or streaks.
@@ -155,8 +158,9 @@ namespace softface
       if (count(bone_mask) == 0)
         fail("'Bone threshold' (" + std::to_string(prm.bone_threshold) +
              " HU) selects no voxel inside the body.");
-      const auto  bone_pieces = components(
-        bone_mask, std::max<std::size_t>(1, prm.min_bone_volume / ct.voxel_volume()));
+      const auto bone_pieces = components(
+        bone_mask,
+        std::max<std::size_t>(1, prm.min_bone_volume / ct.voxel_volume()));
       const auto *bone_piece = bone_pieces->GetBufferPointer();
 
       // Depth under the body surface (mm; negative inside).
@@ -183,8 +187,8 @@ namespace softface
       auto *soft = soft_mask->GetBufferPointer();
       for (std::size_t v = 0; v < n; ++v)
         soft[v] = (body_piece[v] == 1 && bone_piece[v] == 0);
-      const auto  soft_pieces = components(soft_mask, 1);
-      const auto *soft_piece  = soft_pieces->GetBufferPointer();
+      const auto              soft_pieces = components(soft_mask, 1);
+      const auto             *soft_piece  = soft_pieces->GetBufferPointer();
       std::set<std::uint32_t> external;
       for (std::size_t v = 0; v < n; ++v)
         if (soft_piece[v] != 0 && -depth[v] < prm.skin_thickness)

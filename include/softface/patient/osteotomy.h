@@ -1,0 +1,79 @@
+#ifndef softface_patient_osteotomy_h
+#define softface_patient_osteotomy_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <softface/patient/volume.h>
+
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  namespace Patient
+  {
+    /**
+     * A cut surface of an osteotomy (seed 3.2), named as in the clinic (Le
+     * Fort I, bilateral sagittal split left and right, genioplasty): a plane
+     * (a point and its normal) or a polyline swept along a direction, each
+     * bounded by a box so that it cuts only the bone it is meant for.
+     */
+    struct Cut
+    {
+      std::string       name;
+      std::string       type = "plane"; ///< "plane" or "swept polyline"
+      Vec3              point{{0., 0., 0.}};
+      Vec3              normal{{0., 0., 1.}};
+      std::vector<Vec3> polyline;
+      Vec3              sweep{{1., 0., 0.}};
+      Vec3              box_min{{-1e9, -1e9, -1e9}};
+      Vec3              box_max{{1e9, 1e9, 1e9}};
+
+      /// Distance of @p x to the cut surface (mm); infinite outside its box.
+      double
+      distance(const Vec3 &x) const;
+    };
+
+    struct OsteotomyParameters
+    {
+      /// Subsection "Osteotomy": the list of cuts, one "Cut <name>" each.
+      static void
+      declare_parameters(dealii::ParameterHandler       &prm,
+                         const std::vector<std::string> &cut_names);
+      static std::vector<std::string>
+      cut_names(dealii::ParameterHandler &prm);
+      void
+      parse_parameters(dealii::ParameterHandler &prm);
+
+      std::vector<Cut> cuts;
+      double           kerf            = 1.5;  ///< mm, width of a saw cut
+      double           min_part_volume = 500.; ///< mm^3
+    };
+
+    /// A bone segment as the osteotomy needs it: a name and a point in it.
+    struct SegmentSeed
+    {
+      std::string name;
+      Vec3        point;
+    };
+
+    /**
+     * The bone parts (seed 3.2-3.3): the bone of @p labels (value
+     * @p bone_label) minus the saw kerfs of the cuts, split into connected
+     * pieces; the piece that holds a segment's seed point (or the nearest
+     * bone within 5 mm of it) is that segment's. Returns a volume with s + 1
+     * on every bone voxel of segment s; kerf voxels and pieces smaller than
+     * 'Minimum part volume' go to the nearest part through the bone.
+     * Throws an Error when a seed is not in bone, when two segments fall in
+     * one piece (a cut does not separate them), or when a piece larger than
+     * the minimum volume belongs to no segment.
+     */
+    LabelVolume
+    split_bone(const LabelVolume              &labels,
+               const std::uint8_t              bone_label,
+               const OsteotomyParameters      &parameters,
+               const std::vector<SegmentSeed> &segments);
+  } // namespace Patient
+} // namespace softface
+
+#endif

@@ -1,0 +1,93 @@
+#ifndef softface_patient_pipeline_h
+#define softface_patient_pipeline_h
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <softface/patient/osteotomy.h>
+#include <softface/patient/phantom.h>
+#include <softface/patient/segmentation.h>
+#include <softface/patient/tetrahedral_mesh.h>
+
+#include <ostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace softface
+{
+  namespace Patient
+  {
+    /**
+     * Everything of subsection Scene/Patient: where the CT comes from (a
+     * file, a DICOM folder, or the phantom), the segmentation, the region of
+     * interest, the tetrahedral mesh and the osteotomies.
+     */
+    struct PatientParameters
+    {
+      /// Subsection "Patient" (the handler is inside "Scene").
+      static void
+      declare_parameters(dealii::ParameterHandler       &prm,
+                         const std::vector<std::string> &cut_names);
+      /// The cut names of a parsed handler (inside "Scene").
+      static std::vector<std::string>
+      cut_names(dealii::ParameterHandler &prm);
+      /// Relative files are taken from @p input_directory; an empty work
+      /// directory becomes @p default_work_directory.
+      void
+      parse_parameters(dealii::ParameterHandler &prm,
+                       const std::string        &input_directory,
+                       const std::string        &default_work_directory);
+
+      std::string               ct_volume;    ///< empty: the phantom
+      std::string               label_volume; ///< empty: segment the CT
+      std::string               work_directory;
+      bool                      reuse = true;
+      std::string               cut_held_by;
+      PhantomParameters         phantom;
+      SegmentationParameters    segmentation;
+      RegionOfInterest          roi;
+      TetrahedralMeshParameters mesh;
+      OsteotomyParameters       osteotomy;
+    };
+
+    /// What the stages made: the mesh file a Scene reads, and figures.
+    struct PatientModel
+    {
+      std::string mesh_file;
+      /// The boundary ids of each segment's join points on the mesh.
+      std::vector<std::vector<unsigned int>> segment_boundary_ids;
+      /// (stage, figure, value) for the report.
+      std::vector<std::pair<std::string, std::string>> figures;
+    };
+
+    /**
+     * Runs the patient stages, each writing files into the work directory
+     * that the next reads, so that a user can enter at any stage with data
+     * of their own: ct.nii.gz (the phantom; with its truth labels), then
+     * labels.nii.gz with skin.ply/.vtp and skull.ply/.vtp, then
+     * bone_parts.nii.gz and mesh.vtu/.msh. A stage whose inputs and
+     * parameters are those of its last run (its .stamp file) is skipped when
+     * reuse is on. Progress and figures go to @p log.
+     */
+    PatientModel
+    build_patient_model(const PatientParameters        &parameters,
+                        const std::vector<SegmentSeed> &segments,
+                        std::ostream                   &log);
+
+    /// The stages one at a time (the subcommands phantom, segment, mesh):
+    /// each runs what it needs before it.
+    enum class Stage
+    {
+      phantom,
+      segmentation,
+      mesh
+    };
+    PatientModel
+    build_patient_model(const PatientParameters        &parameters,
+                        const std::vector<SegmentSeed> &segments,
+                        const Stage                     last_stage,
+                        std::ostream                   &log);
+  } // namespace Patient
+} // namespace softface
+
+#endif

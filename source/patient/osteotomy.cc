@@ -1,0 +1,385 @@
+// Osteotomies (patient, seed 3.2-3.3): named cut surfaces split the segmented
+// skull into bone parts, and each part becomes the bone segment whose seed
+// point lies in it; the join points of the soft-tissue mesh then follow from
+// the part each bone-contact face touches.
+
+#include <softface/core/error.h>
+#include <softface/patient/osteotomy.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <map>
+#include <sstream>
+
+namespace softface
+{
+  namespace Patient
+  {
+    namespace
+    {
+      using dealii::ParameterHandler;
+      namespace Patterns = dealii::Patterns;
+
+      Vec3
+      parse_vec3(const std::string &text, const std::string &where)
+      {
+        const auto items = dealii::Utilities::split_string_list(text);
+        if (items.size() != 3)
+          throw Error(where + ": expected three numbers 'x, y, z' (got '" +
+                      text + "').");
+        return {{dealii::Utilities::string_to_double(items[0]),
+                 dealii::Utilities::string_to_double(items[1]),
+                 dealii::Utilities::string_to_double(items[2])}};
+      }
+
+      double
+      dot(const Vec3 &a, const Vec3 &b)
+      {
+        return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+      }
+
+      Vec3
+      sub(const Vec3 &a, const Vec3 &b)
+      {
+        return {{a[0] - b[0], a[1] - b[1], a[2] - b[2]}};
+      }
+
+      Vec3
+      normalised(Vec3 v, const std::string &where)
+      {
+        const double n = std::sqrt(dot(v, v));
+        if (!(n > 0.))
+          throw Error(where + ": a zero vector.");
+        for (auto &x : v)
+          x /= n;
+        return v;
+      }
+
+      // Distance from x to the parallelogram a + s u + t v, s, t in [0, 1].
+      double
+      parallelogram_distance(const Vec3 &x,
+                             const Vec3 &a,
+                             const Vec3 &u,
+                             const Vec3 &v)
+      {
+        // Closest point in the plane, clamped by a few projections.
+        const Vec3   d  = sub(x, a);
+        const double uu = dot(u, u), vv = dot(v, v), uv = dot(u, v);
+        const double du = dot(d, u), dv = dot(d, v);
+        const double det = uu * vv - uv * uv;
+        double s = (du * vv - dv * uv) / det, t = (dv * uu - du * uv) / det;
+        s = std::clamp(s, 0., 1.);
+        t = std::clamp((dv - s * uv) / vv, 0., 1.);
+        s = std::clamp((du - t * uv) / uu, 0., 1.);
+        Vec3 q;
+        for (unsigned int c = 0; c < 3; ++c)
+          q[c] = a[c] + s * u[c] + t * v[c];
+        const Vec3 r = sub(x, q);
+        return std::sqrt(dot(r, r));
+      }
+    } // namespace
+
+    double
+    Cut::distance(const Vec3 &x) const
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+        if (x[d] < box_min[d] || x[d] > box_max[d])
+          return std::numeric_limits<double>::infinity();
+      if (type == "plane")
+        return std::abs(dot(sub(x, point), normal));
+      // A polyline swept along the sweep direction, as far as the box goes:
+      // parallelograms between consecutive polyline points.
+      double       best  = std::numeric_limits<double>::infinity();
+      const double reach = 1e3;
+      for (std::size_t i = 0; i + 1 < polyline.size(); ++i)
+        {
+          Vec3 a = polyline[i], u = sub(polyline[i + 1], polyline[i]), v;
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              a[c] -= reach * sweep[c];
+              v[c] = 2. * reach * sweep[c];
+            }
+          best = std::min(best, parallelogram_distance(x, a, u, v));
+        }
+      return best;
+    }
+
+    void
+    OsteotomyParameters::declare_parameters(
+      ParameterHandler               &prm,
+      const std::vector<std::string> &names)
+    {
+      prm.enter_subsection("Osteotomy");
+      prm.declare_entry("Cuts",
+                        "",
+                        Patterns::List(Patterns::Anything()),
+                        "Names of the cut surfaces (e.g. le fort I, bsso left, "
+                        "bsso right, genioplasty), each described in a "
+                        "subsection 'Cut <name>'. No cut: the skull is one "
+                        "part.");
+      prm.declare_entry("Kerf",
+                        "1.5",
+                        Patterns::Double(0.1, 10.),
+                        "Width of a saw cut (mm): bone within half of it from "
+                        "a cut surface separates the parts.");
+      prm.declare_entry("Minimum part volume",
+                        "500",
+                        Patterns::Double(0.),
+                        "Bone pieces smaller than this (mm^3) are slivers of "
+                        "a cut or noise; they join the nearest part.");
+      for (const std::string &name : names)
+        {
+          prm.enter_subsection("Cut " + name);
+          prm.declare_entry("Type",
+                            "plane",
+                            Patterns::Selection("plane|swept polyline"),
+                            "'plane' (Point and Normal) or 'swept polyline' "
+                            "(Polyline swept along Sweep direction).");
+          prm.declare_entry("Point",
+                            "0, 0, 0",
+                            Patterns::Anything(),
+                            "A point of the plane (mm, 'x, y, z').");
+          prm.declare_entry("Normal",
+                            "0, 0, 1",
+                            Patterns::Anything(),
+                            "The plane's normal ('x, y, z').");
+          prm.declare_entry("Polyline",
+                            "",
+                            Patterns::Anything(),
+                            "Points of the polyline 'x, y, z; x, y, z; ...' "
+                            "(mm).");
+          prm.declare_entry("Sweep direction",
+                            "1, 0, 0",
+                            Patterns::Anything(),
+                            "Direction the polyline is swept along.");
+          prm.declare_entry("Box",
+                            "",
+                            Patterns::Anything(),
+                            "The cut acts only inside this box 'xmin, ymin, "
+                            "zmin; xmax, ymax, zmax' (mm); empty: everywhere.");
+          prm.leave_subsection();
+        }
+      prm.leave_subsection();
+    }
+
+    std::vector<std::string>
+    OsteotomyParameters::cut_names(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Osteotomy");
+      const auto names = dealii::Utilities::split_string_list(prm.get("Cuts"));
+      prm.leave_subsection();
+      return names;
+    }
+
+    void
+    OsteotomyParameters::parse_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Osteotomy");
+      kerf            = prm.get_double("Kerf");
+      min_part_volume = prm.get_double("Minimum part volume");
+      cuts.clear();
+      for (const std::string &name :
+           dealii::Utilities::split_string_list(prm.get("Cuts")))
+        {
+          const std::string where = "Osteotomy/Cut " + name;
+          prm.enter_subsection("Cut " + name);
+          Cut cut;
+          cut.name = name;
+          cut.type = prm.get("Type");
+          if (cut.type == "plane")
+            {
+              cut.point = parse_vec3(prm.get("Point"), where + "/Point");
+              cut.normal =
+                normalised(parse_vec3(prm.get("Normal"), where + "/Normal"),
+                           where + "/Normal");
+            }
+          else
+            {
+              for (const std::string &p :
+                   dealii::Utilities::split_string_list(prm.get("Polyline"),
+                                                        ';'))
+                cut.polyline.push_back(parse_vec3(p, where + "/Polyline"));
+              if (cut.polyline.size() < 2)
+                throw Error(where +
+                            "/Polyline: a swept polyline needs at least "
+                            "two points.");
+              cut.sweep = normalised(parse_vec3(prm.get("Sweep direction"),
+                                                where + "/Sweep direction"),
+                                     where + "/Sweep direction");
+            }
+          const auto box =
+            dealii::Utilities::split_string_list(prm.get("Box"), ';');
+          if (box.size() == 2)
+            {
+              cut.box_min = parse_vec3(box[0], where + "/Box");
+              cut.box_max = parse_vec3(box[1], where + "/Box");
+            }
+          else if (!box.empty())
+            throw Error(where + "/Box: expected 'xmin, ymin, zmin; xmax, ymax, "
+                                "zmax'.");
+          prm.leave_subsection();
+          cuts.push_back(cut);
+        }
+      prm.leave_subsection();
+    }
+
+    LabelVolume
+    split_bone(const LabelVolume              &labels,
+               const std::uint8_t              bone_label,
+               const OsteotomyParameters      &prm,
+               const std::vector<SegmentSeed> &segments)
+    {
+      const std::size_t n    = labels.n_voxels();
+      const auto       &size = labels.size;
+      // Bone outside the kerfs: what the cuts leave connected.
+      std::vector<std::uint8_t> state(n, 0); // 0 no bone, 1 bone, 2 kerf
+      for (std::size_t k = 0; k < size[2]; ++k)
+        for (std::size_t j = 0; j < size[1]; ++j)
+          for (std::size_t i = 0; i < size[0]; ++i)
+            {
+              const std::size_t v = labels.index(i, j, k);
+              if (labels.values[v] != bone_label)
+                continue;
+              state[v]     = 1;
+              const Vec3 x = labels.point(i, j, k);
+              for (const Cut &cut : prm.cuts)
+                if (cut.distance(x) < 0.5 * prm.kerf)
+                  state[v] = 2;
+            }
+
+      // Connected pieces (face neighbours) of the uncut bone.
+      const long       stride[3] = {1, long(size[0]), long(size[0] * size[1])};
+      std::vector<int> piece(n, -1);
+      std::vector<std::size_t> piece_size;
+      std::vector<std::size_t> piece_example;
+      std::deque<std::size_t>  queue;
+      const auto for_neighbours = [&](const std::size_t v, auto &&visit) {
+        std::size_t c[3] = {v % size[0],
+                            (v / size[0]) % size[1],
+                            v / (size[0] * size[1])};
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            if (c[d] > 0)
+              visit(v - stride[d]);
+            if (c[d] + 1 < size[d])
+              visit(v + stride[d]);
+          }
+      };
+      for (std::size_t v = 0; v < n; ++v)
+        if (state[v] == 1 && piece[v] < 0)
+          {
+            const int p = piece_size.size();
+            piece_size.push_back(0);
+            piece_example.push_back(v);
+            piece[v] = p;
+            queue.push_back(v);
+            while (!queue.empty())
+              {
+                const std::size_t u = queue.front();
+                queue.pop_front();
+                ++piece_size[p];
+                for_neighbours(u, [&](const std::size_t w) {
+                  if (state[w] == 1 && piece[w] < 0)
+                    {
+                      piece[w] = p;
+                      queue.push_back(w);
+                    }
+                });
+              }
+          }
+
+      // Each segment's piece: the one at its seed, or the nearest bone.
+      const auto describe = [&](const std::size_t v) {
+        const Vec3         x = labels.point(v % size[0],
+                                    (v / size[0]) % size[1],
+                                    v / (size[0] * size[1]));
+        std::ostringstream s;
+        s << "(" << std::round(x[0]) << ", " << std::round(x[1]) << ", "
+          << std::round(x[2]) << ")";
+        return s.str();
+      };
+      std::map<int, unsigned int> segment_of_piece;
+      for (unsigned int s = 0; s < segments.size(); ++s)
+        {
+          const Vec3 &seed  = segments[s].point;
+          const Vec3  c     = labels.continuous_index(seed);
+          int         found = -1;
+          double      best  = 5.;
+          const int   r[3]  = {int(std::ceil(5. / labels.spacing[0])),
+                               int(std::ceil(5. / labels.spacing[1])),
+                               int(std::ceil(5. / labels.spacing[2]))};
+          for (int dk = -r[2]; dk <= r[2]; ++dk)
+            for (int dj = -r[1]; dj <= r[1]; ++dj)
+              for (int di = -r[0]; di <= r[0]; ++di)
+                {
+                  const long i = std::lround(c[0]) + di,
+                             j = std::lround(c[1]) + dj,
+                             k = std::lround(c[2]) + dk;
+                  if (i < 0 || j < 0 || k < 0 || i >= long(size[0]) ||
+                      j >= long(size[1]) || k >= long(size[2]))
+                    continue;
+                  const std::size_t v = labels.index(i, j, k);
+                  if (piece[v] < 0)
+                    continue;
+                  const Vec3   x = labels.point(i, j, k);
+                  const double d = std::sqrt(dot(sub(x, seed), sub(x, seed)));
+                  if (d < best)
+                    best = d, found = piece[v];
+                }
+          if (found < 0)
+            {
+              std::ostringstream m;
+              m << "Osteotomy: the seed point (" << seed[0] << ", " << seed[1]
+                << ", " << seed[2] << ") of segment '" << segments[s].name
+                << "' lies in no bone (none within 5 mm).";
+              throw Error(m.str());
+            }
+          const auto taken = segment_of_piece.find(found);
+          if (taken != segment_of_piece.end())
+            throw Error("Osteotomy: segments '" + segments[taken->second].name +
+                        "' and '" + segments[s].name +
+                        "' lie in one bone part: no cut separates them (check "
+                        "the cuts' positions and boxes, or the kerf).");
+          segment_of_piece[found] = s;
+        }
+      const double voxel = labels.voxel_volume();
+      for (std::size_t p = 0; p < piece_size.size(); ++p)
+        if (!segment_of_piece.count(p) &&
+            piece_size[p] * voxel >= prm.min_part_volume)
+          {
+            std::ostringstream m;
+            m << "Osteotomy: a bone part of " << piece_size[p] * voxel / 1000.
+              << " cm^3 (at " << describe(piece_example[p])
+              << ") belongs to no segment; give it a segment with a seed point "
+                 "in it, or change the cuts.";
+            throw Error(m.str());
+          }
+
+      // The parts, then the rest of the bone (kerfs, small pieces) to the
+      // nearest part through the bone.
+      LabelVolume parts;
+      parts.reinit_like(labels);
+      for (std::size_t v = 0; v < n; ++v)
+        if (piece[v] >= 0 && segment_of_piece.count(piece[v]))
+          {
+            parts.values[v] = segment_of_piece[piece[v]] + 1;
+            queue.push_back(v);
+          }
+      while (!queue.empty())
+        {
+          const std::size_t u = queue.front();
+          queue.pop_front();
+          for_neighbours(u, [&](const std::size_t w) {
+            if (state[w] != 0 && parts.values[w] == 0)
+              {
+                parts.values[w] = parts.values[u];
+                queue.push_back(w);
+              }
+          });
+        }
+      return parts;
+    }
+  } // namespace Patient
+} // namespace softface
