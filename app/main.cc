@@ -26,6 +26,10 @@ main(int argc, char **argv)
     "surfaces,\n"
     "       softface mesh SCENE.prm       or the bone parts and the "
     "tetrahedral mesh\n"
+    "       softface postop SCENE.prm     a phantom's post-operative skull "
+    "(parts moved by the Planning)\n"
+    "       softface plan SCENE.prm       the Planning recovered from a "
+    "post-operative skull by ICP\n"
     "       softface --print-parameters   print every parameter with its "
     "default and documentation\n"
     "       softface --help\n";
@@ -34,7 +38,8 @@ main(int argc, char **argv)
       if (argc == 3)
         {
           const std::string stage = argv[1];
-          if (stage != "phantom" && stage != "segment" && stage != "mesh")
+          if (stage != "phantom" && stage != "segment" && stage != "mesh" &&
+              stage != "postop" && stage != "plan")
             {
               std::cerr << usage;
               return 2;

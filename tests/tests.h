@@ -84,6 +84,25 @@ namespace softface_tests
                                ", expected " + std::to_string(expected));
   }
 
+  /**
+   * "what: in [low, high]"; the test fails if value is outside or NaN. For
+   * quantities that change from run to run by design (CGAL's Mesh_3 is not
+   * repeatable), so the value itself is printed only when it fails.
+   */
+  inline void
+  check_within(const std::string &what,
+               const double       value,
+               const double       low,
+               const double       high)
+  {
+    deallog << what << ": in [" << rounded(low, 3) << ", " << rounded(high, 3)
+            << "]" << std::endl;
+    if (!(value >= low && value <= high))
+      throw std::runtime_error(what + " = " + rounded(value, 6) +
+                               " is outside [" + rounded(low, 6) + ", " +
+                               rounded(high, 6) + "]");
+  }
+
   /// A file in the tests' source folder (tests run in the build folder, so
   /// that what they write stays out of the source tree).
   inline std::string

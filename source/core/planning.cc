@@ -146,6 +146,13 @@ namespace softface
     motion_of_segment[segment] = motion;
   }
 
+  RigidMotion
+  Planning::motion(const unsigned int segment) const
+  {
+    const auto m = motion_of_segment.find(segment);
+    return m == motion_of_segment.end() ? RigidMotion() : m->second;
+  }
+
   Vector<double>
   Planning::prescribed_displacement(const Scene &scene) const
   {

@@ -12,6 +12,7 @@
 #include <softface/core/scene.h>
 #include <softface/io/mesh_reader.h>
 #include <softface/patient/pipeline.h>
+#include <softface/patient/vec3_parameter.h>
 
 #include <map>
 #include <numeric>
@@ -154,19 +155,10 @@ namespace softface
         const std::string seed = prm.get("Seed point");
         if (!seed.empty())
           {
-            try
-              {
-                segment.seed_point = Utilities::string_to_double(
-                  Utilities::split_string_list(seed));
-              }
-            catch (const std::exception &)
-              {
-                segment.seed_point.clear();
-              }
-            if (segment.seed_point.size() != 3)
-              throw Error("Scene/Segment " + name +
-                          "/Seed point: expected 'x, y, z' (got '" + seed +
-                          "').");
+            const auto point =
+              Patient::parse_vec3(seed,
+                                  "Scene/Segment " + name + "/Seed point");
+            segment.seed_point = {point[0], point[1], point[2]};
           }
         prm.leave_subsection();
         segments.push_back(segment);

@@ -6,6 +6,7 @@
 #include <softface/fe/elasticity.h>
 #include <softface/models/nonlinear_fem.h>
 
+#include <set>
 #include <sstream>
 
 namespace softface
@@ -116,17 +117,22 @@ namespace softface
               // the tissue's doing, and it is left out.
               if (!cell_has_free_vertex[c])
                 continue;
-              // Say where: the cell and its centroid in the reference frame.
+              // Say where: the cell, its centroid in the reference frame
+              // and the segments its join points belong to.
               std::ostringstream where;
               const auto         cell =
                 std::next(scene->triangulation.begin_active(), c);
-              where << " (cell " << c << " at (" << cell->center() << "), " <<
-                [&]() {
-                  unsigned int n_join = 0;
-                  for (const auto dof : dofs)
-                    n_join += is_join[dof];
-                  return n_join / 3;
-                }() << " of its vertices join points)";
+              std::set<std::string> touched;
+              const auto           &segment_of = scene->vertex_segment();
+              for (const unsigned int v : cell->vertex_indices())
+                if (segment_of[cell->vertex_index(v)] < scene->segments.size())
+                  touched.insert(
+                    scene->segments[segment_of[cell->vertex_index(v)]].name);
+              where << " (cell " << c << " at (" << cell->center()
+                    << "), join points of";
+              for (const auto &name : touched)
+                where << " '" << name << "'";
+              where << ")";
               refusal = where.str();
               return false;
             }

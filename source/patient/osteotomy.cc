@@ -5,6 +5,7 @@
 
 #include <softface/core/error.h>
 #include <softface/patient/osteotomy.h>
+#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -21,18 +22,6 @@ namespace softface
     {
       using dealii::ParameterHandler;
       namespace Patterns = dealii::Patterns;
-
-      Vec3
-      parse_vec3(const std::string &text, const std::string &where)
-      {
-        const auto items = dealii::Utilities::split_string_list(text);
-        if (items.size() != 3)
-          throw Error(where + ": expected three numbers 'x, y, z' (got '" +
-                      text + "').");
-        return {{dealii::Utilities::string_to_double(items[0]),
-                 dealii::Utilities::string_to_double(items[1]),
-                 dealii::Utilities::string_to_double(items[2])}};
-      }
 
       double
       dot(const Vec3 &a, const Vec3 &b)
@@ -123,7 +112,16 @@ namespace softface
                         "1.5",
                         Patterns::Double(0.1, 10.),
                         "Width of a saw cut (mm): bone within half of it from "
-                        "a cut surface separates the parts.");
+                        "a cut surface separates the parts (at least one "
+                        "voxel, so that a cut always separates).");
+      prm.declare_entry("Detached margin",
+                        "3",
+                        Patterns::Double(0., 50.),
+                        "Soft tissue touching bone within this distance (mm) "
+                        "of a cut is attached to neither part (it is free): "
+                        "the periosteum is lifted along an osteotomy, and "
+                        "tissue pinned to two parts that move apart would be "
+                        "torn. 0: every contact is a join point.");
       prm.declare_entry("Minimum part volume",
                         "500",
                         Patterns::Double(0.),
@@ -178,12 +176,13 @@ namespace softface
     {
       prm.enter_subsection("Osteotomy");
       kerf            = prm.get_double("Kerf");
+      detached_margin = prm.get_double("Detached margin");
       min_part_volume = prm.get_double("Minimum part volume");
       cuts.clear();
       for (const std::string &name :
            dealii::Utilities::split_string_list(prm.get("Cuts")))
         {
-          const std::string where = "Osteotomy/Cut " + name;
+          const std::string where = "Scene/Patient/Osteotomy/Cut " + name;
           prm.enter_subsection("Cut " + name);
           Cut cut;
           cut.name = name;
@@ -233,8 +232,15 @@ namespace softface
     {
       const std::size_t n    = labels.n_voxels();
       const auto       &size = labels.size;
+      // A kerf narrower than a voxel may fall between two layers of voxel
+      // centres and separate nothing: it is at least one voxel wide.
+      const double kerf = std::max(prm.kerf,
+                                   1.01 * std::max({labels.spacing[0],
+                                                    labels.spacing[1],
+                                                    labels.spacing[2]}));
       // Bone outside the kerfs: what the cuts leave connected.
       std::vector<std::uint8_t> state(n, 0); // 0 no bone, 1 bone, 2 kerf
+      std::vector<bool>         detached(n, false);
       for (std::size_t k = 0; k < size[2]; ++k)
         for (std::size_t j = 0; j < size[1]; ++j)
           for (std::size_t i = 0; i < size[0]; ++i)
@@ -245,8 +251,13 @@ namespace softface
               state[v]     = 1;
               const Vec3 x = labels.point(i, j, k);
               for (const Cut &cut : prm.cuts)
-                if (cut.distance(x) < 0.5 * prm.kerf)
-                  state[v] = 2;
+                {
+                  const double d = cut.distance(x);
+                  if (d < 0.5 * kerf)
+                    state[v] = 2;
+                  if (d < prm.detached_margin)
+                    detached[v] = true;
+                }
             }
 
       // Connected pieces (face neighbours) of the uncut bone.
@@ -379,6 +390,9 @@ namespace softface
               }
           });
         }
+      for (std::size_t v = 0; v < n; ++v)
+        if (detached[v] && parts.values[v] != 0)
+          parts.values[v] = detached_part;
       return parts;
     }
   } // namespace Patient

@@ -6,6 +6,7 @@
 
 #include <softface/core/error.h>
 #include <softface/patient/phantom.h>
+#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,18 +21,6 @@ namespace softface
     {
       using dealii::ParameterHandler;
       namespace Patterns = dealii::Patterns;
-
-      Vec3
-      parse_vec3(const std::string &text, const std::string &entry)
-      {
-        const auto items = dealii::Utilities::split_string_list(text);
-        if (items.size() != 3)
-          throw Error("Phantom: '" + entry + "' must be three numbers (got '" +
-                      text + "').");
-        return {{dealii::Utilities::string_to_double(items[0]),
-                 dealii::Utilities::string_to_double(items[1]),
-                 dealii::Utilities::string_to_double(items[2])}};
-      }
 
       // Implicit primitives: about the signed distance (mm), negative inside.
       inline double
@@ -126,10 +115,23 @@ namespace softface
         return {{p[0], c[1] + cs * dy + sn * dz, c[2] - sn * dy + cs * dz}};
       }
 
-      constexpr double occlusion  = -20.; // occlusal plane, z
-      constexpr double skin_depth = 2.;   // mm under the skin surface
-      constexpr double fat_depth  = 6.;   // skin + subcutaneous fat
-    }                                     // namespace
+      constexpr double occlusion = -20.; // occlusal plane, z
+
+      // Where a point of the face lies in the phantom's unscaled frame: the
+      // lower face scales in height by H about the occlusal plane, and the
+      // scaling fades out between z = 10 and 40 mm, so that the face joins
+      // the unscaled forehead without a step.
+      inline Vec3
+      lower_face(const Vec3 &p, const double H)
+      {
+        const double w = std::clamp((40. - p[2]) / 30., 0., 1.);
+        Vec3         x = p;
+        x[2]           = p[2] - w * (1. - 1. / H) * (p[2] - occlusion);
+        return x;
+      }
+      constexpr double skin_depth = 2.; // mm under the skin surface
+      constexpr double fat_depth  = 6.; // skin + subcutaneous fat
+    }                                   // namespace
 
     void
     PhantomParameters::declare_parameters(ParameterHandler &prm)
@@ -210,10 +212,11 @@ namespace softface
     PhantomParameters::parse_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Phantom");
-      voxel_size    = prm.get_double("Voxel size");
-      field_of_view = parse_vec3(prm.get("Field of view"), "Field of view");
-      centre =
-        parse_vec3(prm.get("Field of view centre"), "Field of view centre");
+      voxel_size            = prm.get_double("Voxel size");
+      field_of_view         = parse_vec3(prm.get("Field of view"),
+                                 "Scene/Patient/Phantom/Field of view");
+      centre                = parse_vec3(prm.get("Field of view centre"),
+                          "Scene/Patient/Phantom/Field of view centre");
       face_width            = prm.get_double("Face width");
       face_height           = prm.get_double("Face height");
       soft_tissue_thickness = prm.get_double("Soft tissue thickness");
@@ -298,10 +301,7 @@ namespace softface
     {
       const double W = prm.face_width, H = prm.face_height;
       const double t = prm.soft_tissue_thickness;
-      // The lower face scales in height about the occlusal plane.
-      Vec3 x = p;
-      if (x[2] < 40.)
-        x[2] = occlusion + (x[2] - occlusion) / H;
+      const Vec3   x = lower_face(p, H);
       const double a = chin_advance, dz = chin_drop / H;
 
       double f = ellipsoid(p, {{0., 15., 75.}}, {{77., 97., 82.}}); // scalp
@@ -325,6 +325,24 @@ namespace softface
              ellipsoid(x, {{0., -66. - a, -62. - dz}}, {{26. * W, 16., 20.}}) -
                t,
              8.);
+      // The masseters over the rami and the soft tissue along the
+      // mandible's body: the jaw is covered by about a centimetre.
+      for (const int side : {-1, 1})
+        {
+          const Vec3 c = condyle(side), g = gonion(side);
+          const Vec3 b = side < 0 ? body_right : body_left;
+          f            = smin(f,
+                   capsule(p,
+                           {{c[0] + side * 2., c[1] - 1., c[2] - 2.}},
+                           {{g[0] + side * 2., g[1] - 1., g[2] + 2.}},
+                           14.) -
+                     t,
+                   10.);
+          f            = smin(f, capsule(p, g, b, 11.) - t, 10.);
+          f            = smin(f, capsule(p, b, symphysis_point, 11.) - t, 10.);
+        }
+      // At least 3 mm of soft tissue over the mandible everywhere.
+      f = smin(f, mandible_function(p) - 3., 4.);
       // The mouth slit separates the lips down to the front teeth.
       const double slit = std::max({std::abs(x[2] - occlusion) - 1.5,
                                     std::abs(x[0]) - 22. * W,
@@ -342,9 +360,7 @@ namespace softface
     Phantom::bone_function(const Vec3 &p) const
     {
       const double W = prm.face_width, H = prm.face_height;
-      Vec3         x = p;
-      if (x[2] < 40.)
-        x[2] = occlusion + (x[2] - occlusion) / H;
+      const Vec3   x = lower_face(p, H);
       const double cranium =
         std::max(ellipsoid(p, {{0., 15., 75.}}, {{70., 90., 75.}}),
                  -brain_function(p));
@@ -396,7 +412,7 @@ namespace softface
     Phantom::mandible_function(const Vec3 &x) const
     {
       // Far from the jaw nothing needs evaluating.
-      if (x[2] > 30. || x[2] < -110. || x[1] > 40.)
+      if (x[2] > 40. || x[2] < -120. || x[1] > 60.)
         return 10.;
       const Vec3 scale{{1., 1., 2.}};
       double     f = std::min({capsule(x, gonion_right, body_right, 6.5, scale),
@@ -485,11 +501,42 @@ namespace softface
       for (auto &thread : threads)
         thread.join();
 
-      // Hounsfield units, the point spread (a separable Gaussian), noise.
+      // Hounsfield units with the partial-volume effect of a real scanner:
+      // where the tissue changes within a voxel, its value is the mean over
+      // 3 x 3 x 3 points inside it, so that the image places a surface to a
+      // fraction of a voxel. Then the point spread (a separable Gaussian)
+      // and noise.
       const auto        &hu = hounsfield_units();
       std::vector<float> image(ct.n_voxels());
       for (std::size_t v = 0; v < image.size(); ++v)
         image[v] = hu[truth.values[v]];
+      threads.clear();
+      for (unsigned int t = 0; t < n_threads; ++t)
+        threads.emplace_back([&, t]() {
+          for (std::size_t k = t; k < nk; k += n_threads)
+            for (std::size_t j = 0; j < ct.size[1]; ++j)
+              for (std::size_t i = 0; i < ct.size[0]; ++i)
+                {
+                  const auto l     = truth(i, j, k);
+                  bool       mixed = false;
+                  if (i > 0 && i + 1 < ct.size[0] && j > 0 &&
+                      j + 1 < ct.size[1] && k > 0 && k + 1 < nk)
+                    mixed =
+                      truth(i - 1, j, k) != l || truth(i + 1, j, k) != l ||
+                      truth(i, j - 1, k) != l || truth(i, j + 1, k) != l ||
+                      truth(i, j, k - 1) != l || truth(i, j, k + 1) != l;
+                  if (!mixed)
+                    continue;
+                  double sum = 0.;
+                  for (const double a : {-1. / 3., 0., 1. / 3.})
+                    for (const double b : {-1. / 3., 0., 1. / 3.})
+                      for (const double c : {-1. / 3., 0., 1. / 3.})
+                        sum += hu[label(ct.point(i + a, j + b, k + c))];
+                  image[ct.index(i, j, k)] = sum / 27.;
+                }
+        });
+      for (auto &thread : threads)
+        thread.join();
 
       if (prm.metal_streaks)
         {

@@ -10,6 +10,7 @@
 #include <softface/patient/image_io.h>
 #include <softface/patient/pipeline.h>
 #include <softface/patient/surface.h>
+#include <softface/patient/vec3_parameter.h>
 
 #include <chrono>
 #include <filesystem>
@@ -26,19 +27,6 @@ namespace softface
       using dealii::ParameterHandler;
       namespace Patterns = dealii::Patterns;
       namespace fs       = std::filesystem;
-
-      Vec3
-      parse_vec3(const std::string &text, const std::string &where)
-      {
-        const auto items = dealii::Utilities::split_string_list(text);
-        if (items.size() != 3)
-          throw Error(where + ": expected three numbers 'x, y, z' (got '" +
-                      text + "').");
-        Vec3 v;
-        for (unsigned int d = 0; d < 3; ++d)
-          v[d] = dealii::Utilities::string_to_double(items[d]);
-        return v;
-      }
 
       std::string
       resolve(const std::string &file, const std::string &directory)
@@ -163,6 +151,16 @@ namespace softface
                         Patterns::Bool(),
                         "Skip a stage whose inputs and parameters are those of "
                         "its last run in the work directory.");
+      prm.declare_entry("Post-operative skull",
+                        "",
+                        Patterns::Anything(),
+                        "A post-operative skull surface (.ply or .vtp, the "
+                        "patient frame) for 'softface plan', which registers "
+                        "each bone part to it by ICP from the scene's "
+                        "Planning and writes the recovered Planning; "
+                        "'softface postop' writes one for a phantom, moved "
+                        "by the scene's Planning. Empty: postop_skull.ply in "
+                        "the work directory.");
       prm.declare_entry("Cut held by",
                         "",
                         Patterns::Anything(),
@@ -292,6 +290,11 @@ namespace softface
         work_directory = default_work;
       reuse       = prm.get_bool("Reuse earlier stages");
       cut_held_by = prm.get("Cut held by");
+      post_operative_skull =
+        resolve(prm.get("Post-operative skull"), input_directory);
+      if (post_operative_skull.empty())
+        post_operative_skull =
+          (fs::path(work_directory) / "postop_skull.ply").string();
       phantom.parse_parameters(prm);
 
       prm.enter_subsection("Segmentation");
@@ -310,8 +313,8 @@ namespace softface
         throw Error("Scene/Patient/Region of interest/Box: expected 'xmin, "
                     "ymin, zmin; xmax, ymax, zmax' (got '" +
                     prm.get("Box") + "').");
-      roi.box_min = parse_vec3(box[0], "Region of interest/Box");
-      roi.box_max = parse_vec3(box[1], "Region of interest/Box");
+      roi.box_min = parse_vec3(box[0], "Scene/Patient/Region of interest/Box");
+      roi.box_max = parse_vec3(box[1], "Scene/Patient/Region of interest/Box");
       for (unsigned int d = 0; d < 3; ++d)
         if (!(roi.box_min[d] < roi.box_max[d]))
           throw Error("Scene/Patient/Region of interest/Box: its minimum "
@@ -372,6 +375,26 @@ namespace softface
                               const std::string &value) {
         model.figures.emplace_back(name, value);
       };
+      // A stage's figures are kept beside its files, so that a reused
+      // stage reports what it made.
+      const auto save_figures = [&](const std::string &stage,
+                                    const std::size_t  first) {
+        std::ofstream out(work / (stage + ".figures"));
+        for (std::size_t i = first; i < model.figures.size(); ++i)
+          out << model.figures[i].first << '\t' << model.figures[i].second
+              << '\n';
+      };
+      const auto load_figures = [&](const std::string &stage) {
+        std::ifstream in(work / (stage + ".figures"));
+        std::string   line;
+        while (std::getline(in, line))
+          {
+            const auto tab = line.find('\t');
+            if (tab != std::string::npos)
+              model.figures.emplace_back(line.substr(0, tab),
+                                         line.substr(tab + 1));
+          }
+      };
       const auto file = [&](const std::string &name) {
         return (work / name).string();
       };
@@ -409,6 +432,7 @@ namespace softface
                          {file("ct.nii.gz"), file("truth_labels.nii.gz")}))
             {
               ct = read_ct(file("ct.nii.gz"));
+              load_figures("ct");
               log << "    phantom CT: reused " << file("ct.nii.gz")
                   << std::endl;
             }
@@ -429,11 +453,19 @@ namespace softface
                   << " mm (" << std::fixed << std::setprecision(1)
                   << clock.seconds() << " s)" << std::defaultfloat << std::endl;
               figure("phantom s", number(clock.seconds()));
+              save_figures("ct", model.figures.size() - 1);
             }
         }
       else
         {
-          ct       = read_ct(prm.ct_volume);
+          try
+            {
+              ct = read_ct(prm.ct_volume);
+            }
+          catch (const Error &e)
+            {
+              throw Error(std::string("Scene/Patient/CT volume: ") + e.what());
+            }
           ct_stamp = stamp_of("file", file_stamp(prm.ct_volume));
           log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
               << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
@@ -467,6 +499,7 @@ namespace softface
                                    file("skull.vtp")}))
         {
           labels = read_labels(file("labels.nii.gz"));
+          load_figures("labels");
           log << "    segmentation: reused " << file("labels.nii.gz")
               << std::endl;
         }
@@ -486,7 +519,15 @@ namespace softface
             }
           else
             {
-              labels = read_labels(prm.label_volume);
+              try
+                {
+                  labels = read_labels(prm.label_volume);
+                }
+              catch (const Error &e)
+                {
+                  throw Error(std::string("Scene/Patient/Label volume: ") +
+                              e.what());
+                }
               if (labels.size != ct.size)
                 throw Error("Scene/Patient/Label volume '" + prm.label_volume +
                             "' does not have the CT's size.");
@@ -524,9 +565,11 @@ namespace softface
                                });
             }
           std::ofstream(work / "labels.stamp") << labels_stamp;
+          const std::size_t first = model.figures.size();
           figure("skin vertices", std::to_string(skin.points.size()));
           figure("skull vertices", std::to_string(skull.points.size()));
           figure("segmentation s", number(clock.seconds()));
+          save_figures("labels", first);
           log << "    segmentation: skin " << skin.points.size()
               << " vertices, skull " << skull.points.size() << " vertices ("
               << std::fixed << std::setprecision(1) << clock.seconds() << " s)"
@@ -563,8 +606,8 @@ namespace softface
             inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
           inputs << '\n';
         }
-      inputs << prm.osteotomy.kerf << ' ' << prm.osteotomy.min_part_volume
-             << '\n';
+      inputs << prm.osteotomy.kerf << ' ' << prm.osteotomy.detached_margin
+             << ' ' << prm.osteotomy.min_part_volume << '\n';
       for (const auto &v : {prm.roi.box_min, prm.roi.box_max})
         inputs << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
       for (const auto &[p, n] : prm.roi.planes)
@@ -584,7 +627,10 @@ namespace softface
           up_to_date(work / "mesh.stamp",
                      mesh_stamp,
                      {file("mesh.vtu"), file("bone_parts.nii.gz")}))
-        log << "    mesh: reused " << model.mesh_file << std::endl;
+        {
+          load_figures("mesh");
+          log << "    mesh: reused " << model.mesh_file << std::endl;
+        }
       else
         {
           const LabelVolume parts =
@@ -644,7 +690,8 @@ namespace softface
                              l == muscle_tissue) &&
                             prm.roi.contains(labels.point(i, j, k));
                 }
-          const double soft_volume = n_soft * labels.voxel_volume();
+          const double      soft_volume = n_soft * labels.voxel_volume();
+          const std::size_t first       = model.figures.size();
           figure("tetrahedra", std::to_string(mesh.cells.size()));
           figure("mesh vertices", std::to_string(mesh.points.size()));
           figure("min dihedral deg", number(q.min_dihedral_angle));
@@ -656,6 +703,7 @@ namespace softface
           for (unsigned int s = 0; s < segments.size(); ++s)
             figure("contact faces " + segments[s].name,
                    std::to_string(contact_faces[s]));
+          save_figures("mesh", first);
           log << "    mesh: " << mesh.cells.size() << " tetrahedra, "
               << mesh.points.size() << " vertices, smallest dihedral angle "
               << number(q.min_dihedral_angle, 3) << " degrees, volume "

@@ -6,6 +6,7 @@
 // translation unit with CGAL Mesh_3 (about a minute and 3 GB to compile).
 
 #include <softface/core/error.h>
+#include <softface/patient/osteotomy.h>
 #include <softface/patient/tetrahedral_mesh.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -406,13 +407,17 @@ namespace softface
               {
                 const std::uint8_t part =
                   parts.values.empty() ? 0 : parts(v[0], v[1], v[2]);
+                if (part == detached_part)
+                  return detached_boundary_id;
                 if (part > 0)
                   return first_bone_boundary_id + part - 1;
               }
             else if (!tissue[l])
-              return l == 0 ? skin_boundary_id : cut_boundary_id;
+              return l == 0 ? skin_boundary_id : other_boundary_id;
           }
-        return cut_boundary_id;
+        // Still in tissue two voxels out: a face where the mesh cuts a
+        // corner of the segmented surface; free, like the skin.
+        return other_boundary_id;
       };
       for (auto f = c3t3.facets_in_complex_begin();
            f != c3t3.facets_in_complex_end();

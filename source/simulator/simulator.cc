@@ -10,9 +10,13 @@
 #include <softface/core/planning.h>
 #include <softface/core/scene.h>
 #include <softface/fe/point_evaluation.h>
+#include <softface/io/output_file.h>
 #include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
+#include <softface/patient/image_io.h>
 #include <softface/patient/pipeline.h>
+#include <softface/patient/planning_recovery.h>
+#include <softface/patient/vec3_parameter.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
@@ -220,6 +224,19 @@ namespace softface
       std::ofstream expanded(output.directory + "/parameters.prm");
       prm.print_parameters(expanded, ParameterHandler::PRM);
     }
+    // A patient's figures (voxels, tissue volumes, mesh quality, stage
+    // times) for the reader and the patients benchmark.
+    if (!scene.patient_figures.empty())
+      {
+        auto csv = open_output_file(output.directory + "/patient.csv");
+        csv << "figure,value\n";
+        for (const auto &[name, value] : scene.patient_figures)
+          csv << name << ',' << value << '\n';
+        csv << "shared join points," << scene.n_shared_join_points << '\n';
+        out << "  patient: " << scene.n_shared_join_points
+            << " vertices touching two bone parts left free; figures in "
+            << output.directory << "/patient.csv" << std::endl;
+      }
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
 
@@ -350,21 +367,23 @@ namespace softface
          Utilities::split_string_list(prm.get("Bone segments")))
       {
         prm.enter_subsection("Segment " + name);
-        const auto point = Utilities::split_string_list(prm.get("Seed point"));
+        const std::string point = prm.get("Seed point");
         prm.leave_subsection();
-        if (point.size() != 3)
+        if (point.empty())
           throw Error("Scene/Segment " + name +
                       ": a patient scene's segment needs a 'Seed point' "
                       "'x, y, z' in its bone.");
-        seeds.push_back({name,
-                         {{Utilities::string_to_double(point[0]),
-                           Utilities::string_to_double(point[1]),
-                           Utilities::string_to_double(point[2])}}});
+        seeds.push_back(
+          {name,
+           Patient::parse_vec3(point,
+                               "Scene/Segment " + name + "/Seed point")});
       }
     prm.leave_subsection();
 
     out << "softface " << stage << ": " << filename << std::endl;
-    Timer      wall;
+    Timer wall;
+    if (stage == "postop" || stage == "plan")
+      return plan_from_skull(prm, filename, stage, patient, seeds, out);
     const auto model =
       Patient::build_patient_model(patient,
                                    seeds,
@@ -379,6 +398,82 @@ namespace softface
     out << "Files in " << patient.work_directory << "/ (wall time "
         << std::fixed << std::setprecision(1) << wall.wall_time() << " s)"
         << std::endl;
+    return 0;
+  }
+
+  int
+  Simulator::plan_from_skull(ParameterHandler                        &prm,
+                             const std::string                       &filename,
+                             const std::string                       &stage,
+                             const Patient::PatientParameters        &patient,
+                             const std::vector<Patient::SegmentSeed> &seeds,
+                             std::ostream                            &out)
+  {
+    Scene scene;
+    scene.parse_parameters(
+      prm,
+      std::filesystem::path(filename).parent_path().string(),
+      patient.work_directory,
+      &out);
+    Planning planning;
+    planning.parse_parameters(prm, scene);
+
+    // The scene's planning as rigid transforms x -> R x + t.
+    std::vector<Patient::RigidTransform> planned;
+    for (unsigned int s = 0; s < scene.segments.size(); ++s)
+      {
+        const RigidMotion       motion = planning.motion(s);
+        const Point<3>          t      = motion(Point<3>());
+        Patient::RigidTransform transform;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            transform.translation[d] = t[d];
+            Point<3> e;
+            e[d]                 = 1.;
+            const Point<3> image = motion(e);
+            for (unsigned int r = 0; r < 3; ++r)
+              transform.rotation[3 * r + d] = image[r] - t[r];
+          }
+        planned.push_back(transform);
+      }
+    const auto parts =
+      Patient::bone_part_surfaces(Patient::read_labels(patient.work_directory +
+                                                       "/bone_parts.nii.gz"),
+                                  seeds.size());
+
+    if (stage == "postop")
+      {
+        Patient::write_surface(Patient::moved_skull(parts, planned),
+                               patient.post_operative_skull);
+        out << "Post-operative skull (each bone part moved by the scene's "
+               "Planning): "
+            << patient.post_operative_skull << std::endl;
+        return 0;
+      }
+
+    Patient::TriangleSurface post_operative;
+    try
+      {
+        post_operative = Patient::read_surface(patient.post_operative_skull);
+      }
+    catch (const Error &e)
+      {
+        throw Error(std::string("Scene/Patient/Post-operative skull: ") +
+                    e.what());
+      }
+    const auto               motions = Patient::recover_motions(parts,
+                                                  post_operative,
+                                                  planned,
+                                                  Patient::IcpParameters());
+    std::vector<std::string> names;
+    for (const auto &seed : seeds)
+      names.push_back(seed.name);
+    const std::string section =
+      Patient::planning_section(names, motions, parts);
+    const std::string file = patient.work_directory + "/planning.prm";
+    open_output_file(file) << section;
+    out << section << "Written to " << file
+        << " (a scene takes it with 'include " << file << "')." << std::endl;
     return 0;
   }
 

@@ -39,6 +39,10 @@ namespace softface
     void
     set_motion(const unsigned int segment, const RigidMotion &motion);
 
+    /// The motion of @p segment (the identity for a segment not moved).
+    RigidMotion
+    motion(const unsigned int segment) const;
+
     /**
      * The displacement of every join point under this plan, as a vector on
      * the scene's DoF layout (zero on the free DoFs).

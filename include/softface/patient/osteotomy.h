@@ -46,9 +46,14 @@ namespace softface
       parse_parameters(dealii::ParameterHandler &prm);
 
       std::vector<Cut> cuts;
-      double           kerf            = 1.5;  ///< mm, width of a saw cut
-      double           min_part_volume = 500.; ///< mm^3
+      double           kerf = 1.5; ///< mm, width of a saw cut
+      /// mm: bone this close to a cut holds no soft tissue (detached_part).
+      double detached_margin = 3.;
+      double min_part_volume = 500.; ///< mm^3
     };
+
+    /// The value split_bone() gives bone within the detached margin of a cut.
+    constexpr std::uint8_t detached_part = 255;
 
     /// A bone segment as the osteotomy needs it: a name and a point in it.
     struct SegmentSeed
@@ -64,6 +69,8 @@ namespace softface
      * bone within 5 mm of it) is that segment's. Returns a volume with s + 1
      * on every bone voxel of segment s; kerf voxels and pieces smaller than
      * 'Minimum part volume' go to the nearest part through the bone.
+     * Bone within 'Detached margin' of a cut then gets detached_part: the
+     * soft tissue touching it is free.
      * Throws an Error when a seed is not in bone, when two segments fall in
      * one piece (a cut does not separate them), or when a piece larger than
      * the minimum volume belongs to no segment.

@@ -50,11 +50,12 @@ namespace softface
      * A synthetic head and neck (seed 3.1's patient, made up): cranium with
      * the brain inside, orbits, maxilla with the upper teeth, mandible
      * (body, rami, condyles) with the lower teeth, chin; soft tissue of
-     * skin, fat and muscle over it, nose, cheeks, upper and lower lips
-     * separated by the mouth slit, neck; air around. Every structure is an
-     * implicit surface (negative inside), so the anatomy is smooth and
-     * closed at any voxel size. Teeth, the temporomandibular joints and the
-     * lips leave gaps of a few mm, as a CT of a patient at rest shows them.
+     * skin, fat and muscle over it (masseters over the rami), nose, cheeks,
+     * upper and lower lips separated by the mouth slit, neck; air around. Every
+     * structure is an implicit surface (negative inside), so the anatomy is
+     * smooth and closed at any voxel size. Teeth, the temporomandibular joints
+     * and the lips leave gaps of a few mm, as a CT of a patient at rest shows
+     * them.
      */
     class Phantom
     {
@@ -80,7 +81,7 @@ namespace softface
 
       /// Changes whenever the anatomy does (so that a saved acquisition of
       /// an older phantom is not taken for this one's).
-      static constexpr unsigned int anatomy_version = 3;
+      static constexpr unsigned int anatomy_version = 6;
 
       /// Implicit skin surface: about the signed distance, negative inside.
       double
@@ -92,8 +93,9 @@ namespace softface
 
       /**
        * The CT volume in Hounsfield units (labels sampled at voxel centres,
-       * blurred by the point spread, noise, optional metal streaks from
-       * fillings in the molars) and the truth labels on the same grid.
+       * averaged over 27 points in the voxels where they change (partial
+       * volume), blurred by the point spread, noise, optional metal streaks
+       * from fillings in the molars) and the truth labels on the same grid.
        */
       void
       acquire(CTVolume &ct, LabelVolume &truth) const;

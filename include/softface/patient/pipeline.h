@@ -43,6 +43,7 @@ namespace softface
       std::string               work_directory;
       bool                      reuse = true;
       std::string               cut_held_by;
+      std::string               post_operative_skull;
       PhantomParameters         phantom;
       SegmentationParameters    segmentation;
       RegionOfInterest          roi;

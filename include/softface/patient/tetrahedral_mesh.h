@@ -46,11 +46,16 @@ namespace softface
     };
 
     /// Changes whenever the mesher does (see Phantom::anatomy_version).
-    constexpr unsigned int mesher_version = 5;
+    constexpr unsigned int mesher_version = 7;
 
     /// Boundary ids of a patient mesh.
-    constexpr unsigned int skin_boundary_id       = 1;
-    constexpr unsigned int cut_boundary_id        = 2;
+    constexpr unsigned int skin_boundary_id = 1;
+    constexpr unsigned int cut_boundary_id  = 2;
+    /// Bone contact within an osteotomy's detached margin: free.
+    constexpr unsigned int detached_boundary_id = 3;
+    /// Any other surface of the soft tissue (internal soft tissue beyond
+    /// it, or a face that cuts a corner of the segmentation): free.
+    constexpr unsigned int other_boundary_id      = 4;
     constexpr unsigned int first_bone_boundary_id = 100; ///< + segment
 
     struct TetrahedralMesh
@@ -90,9 +95,11 @@ namespace softface
      * label at the cell's centroid unless the interfaces are conforming). A
      * boundary face gets the id of what lies beyond it, probed along its
      * outward normal within two voxels: air (skin_boundary_id), the end of the
-     * region of interest (cut_boundary_id), or bone of segment s
+     * region of interest (cut_boundary_id), bone of segment s
      * (first_bone_boundary_id + s, where @p parts holds s + 1 on the bone of
-     * segment s; nearest part within one voxel).
+     * segment s; nearest part within one voxel), bone near a cut
+     * (detached_part in @p parts: detached_boundary_id), or anything else,
+     * including tissue all the way (other_boundary_id).
      */
     TetrahedralMesh
     make_tetrahedral_mesh(const LabelVolume               &labels,

@@ -13,6 +13,12 @@
 
 namespace softface
 {
+  namespace Patient
+  {
+    struct PatientParameters;
+    struct SegmentSeed;
+  } // namespace Patient
+
   using namespace dealii;
 
   /**
@@ -56,14 +62,28 @@ namespace softface
     /**
      * Run the patient stages of the scene in @p filename up to @p stage
      * ("phantom", "segment" or "mesh"; the subcommands of the same names),
-     * writing their files into the patient work directory. Returns the
-     * process exit code.
+     * writing their files into the patient work directory; or, after them,
+     * "postop" (a post-operative skull: each bone part moved by the scene's
+     * Planning) or "plan" (each bone part registered to the post-operative
+     * skull by ICP from the scene's Planning, written as planning.prm).
+     * Returns the process exit code.
      */
     static int
     run_patient_stages(const std::string &filename,
                        const std::string &stage,
                        std::ostream      &out = std::cout);
 
+  private:
+    /// The stages postop and plan (see run_patient_stages).
+    static int
+    plan_from_skull(ParameterHandler                        &prm,
+                    const std::string                       &filename,
+                    const std::string                       &stage,
+                    const Patient::PatientParameters        &patient,
+                    const std::vector<Patient::SegmentSeed> &seeds,
+                    std::ostream                            &out);
+
+  public:
     /// After run(): the scene, every model's run and the reference model.
     const Scene &
     scene() const;

@@ -5,6 +5,8 @@
 #include <softface/core/error.h>
 #include <softface/patient/image_io.h>
 
+#include "itk_volume.h"
+
 #include <itkGDCMImageIO.h>
 #include <itkGDCMSeriesFileNames.h>
 #include <itkImage.h>
@@ -21,57 +23,6 @@ namespace softface
   {
     namespace
     {
-      template <typename T>
-      Volume<T>
-      from_itk(const typename itk::Image<T, 3>::Pointer &image)
-      {
-        Volume<T>  volume;
-        const auto size      = image->GetLargestPossibleRegion().GetSize();
-        const auto spacing   = image->GetSpacing();
-        const auto origin    = image->GetOrigin();
-        const auto direction = image->GetDirection();
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            volume.size[d]    = size[d];
-            volume.spacing[d] = spacing[d];
-            volume.origin[d]  = origin[d];
-            for (unsigned int c = 0; c < 3; ++c)
-              volume.direction[3 * d + c] = direction[d][c];
-          }
-        const T *data = image->GetBufferPointer();
-        volume.values.assign(data, data + volume.n_voxels());
-        return volume;
-      }
-
-      template <typename T>
-      typename itk::Image<T, 3>::Pointer
-      to_itk(const Volume<T> &volume)
-      {
-        using Image                         = itk::Image<T, 3>;
-        auto                          image = Image::New();
-        typename Image::SizeType      size;
-        typename Image::SpacingType   spacing;
-        typename Image::PointType     origin;
-        typename Image::DirectionType direction;
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            size[d]    = volume.size[d];
-            spacing[d] = volume.spacing[d];
-            origin[d]  = volume.origin[d];
-            for (unsigned int c = 0; c < 3; ++c)
-              direction[d][c] = volume.direction[3 * d + c];
-          }
-        image->SetRegions(size);
-        image->SetSpacing(spacing);
-        image->SetOrigin(origin);
-        image->SetDirection(direction);
-        image->Allocate();
-        std::copy(volume.values.begin(),
-                  volume.values.end(),
-                  image->GetBufferPointer());
-        return image;
-      }
-
       template <typename T>
       Volume<T>
       read(const std::string &filename)

@@ -5,6 +5,8 @@
 #include <softface/core/error.h>
 #include <softface/patient/segmentation.h>
 
+#include "itk_volume.h"
+
 #include <itkBinaryFillholeImageFilter.h>
 #include <itkBinaryThresholdImageFilter.h>
 #include <itkConnectedComponentImageFilter.h>
@@ -27,33 +29,6 @@ namespace softface
       using FloatImage = itk::Image<float, 3>;
       using MaskImage  = itk::Image<std::uint8_t, 3>;
       using CountImage = itk::Image<std::uint32_t, 3>;
-
-      CTImage::Pointer
-      to_itk(const CTVolume &volume)
-      {
-        auto                   image = CTImage::New();
-        CTImage::SizeType      size;
-        CTImage::SpacingType   spacing;
-        CTImage::PointType     origin;
-        CTImage::DirectionType direction;
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            size[d]    = volume.size[d];
-            spacing[d] = volume.spacing[d];
-            origin[d]  = volume.origin[d];
-            for (unsigned int c = 0; c < 3; ++c)
-              direction[d][c] = volume.direction[3 * d + c];
-          }
-        image->SetRegions(size);
-        image->SetSpacing(spacing);
-        image->SetOrigin(origin);
-        image->SetDirection(direction);
-        image->Allocate();
-        std::copy(volume.values.begin(),
-                  volume.values.end(),
-                  image->GetBufferPointer());
-        return image;
-      }
 
       MaskImage::Pointer
       threshold(const FloatImage::Pointer &image, const double lower)
@@ -95,6 +70,13 @@ namespace softface
           c += v[i] != 0;
         return c;
       }
+      std::string
+      number(const double x)
+      {
+        std::ostringstream s;
+        s << x;
+        return s.str();
+      }
     } // namespace
 
     SegmentationResult
@@ -134,8 +116,8 @@ namespace softface
       // largest piece (the table and the scanner's air are not the head).
       MaskImage::Pointer body_mask = threshold(smoothed, prm.body_threshold);
       if (count(body_mask) == 0)
-        fail("'Body threshold' (" + std::to_string(prm.body_threshold) +
-             " HU) selects no voxel.");
+        fail("'Scene/Patient/Segmentation/Body threshold' (" +
+             number(prm.body_threshold) + " HU) selects no voxel.");
       {
         auto fill = itk::BinaryFillholeImageFilter<MaskImage>::New();
         fill->SetInput(body_mask);
@@ -156,8 +138,10 @@ namespace softface
           bone[v] = (bone[v] && body_piece[v] == 1);
       }
       if (count(bone_mask) == 0)
-        fail("'Bone threshold' (" + std::to_string(prm.bone_threshold) +
-             " HU) selects no voxel inside the body.");
+        fail("'Scene/Patient/Segmentation/Bone threshold' (" +
+             number(prm.bone_threshold) +
+             " HU) selects no voxel inside the "
+             "body.");
       const auto bone_pieces = components(
         bone_mask,
         std::max<std::size_t>(1, prm.min_bone_volume / ct.voxel_volume()));

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# The ten phantom patients after the seed's Table 2 (Mollemans et al. 2007):
+# builds each patient from its scene prm/patients/P<n>.prm (phantom CT ->
+# segmentation -> surfaces -> bone parts -> tetrahedral mesh -> the four
+# models) and writes doc/results/patients.md (+ patients.csv, and one PNG per
+# patient of its skin and skull, front and profile).
+#
+#   benchmarks/patients/run.sh            all ten, from scratch (about 15 min)
+#   benchmarks/patients/run.sh P4 P5      some of them
+#   benchmarks/patients/run.sh --report-only
+#
+# Needs a built build/softface and Debian's python3-numpy, python3-matplotlib.
+# Each patient's outputs (and its stage files, reused by a second run with
+# unchanged parameters) go to build/benchmarks/patients/<name>/.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+root=$(pwd)
+work=build/benchmarks/patients
+results=doc/results
+mkdir -p "$work" "$results/patients"
+
+if [ ! -x build/softface ]; then
+  echo "patients: build/softface is missing; run ./test.sh or ./run.sh first"
+  exit 1
+fi
+if ! /usr/bin/python3 -c "import numpy, matplotlib" 2> /dev/null; then
+  echo "patients: needs python3-numpy and python3-matplotlib (apt-get install -y python3-numpy python3-matplotlib)"
+  exit 1
+fi
+
+patients=()
+report_only=0
+for a in "$@"; do
+  case "$a" in
+    --report-only) report_only=1 ;;
+    P*) patients+=("$a") ;;
+    *) echo "usage: $0 [--report-only] [P1 ... P10]"; exit 2 ;;
+  esac
+done
+[ ${#patients[@]} -eq 0 ] && patients=(P1 P2 P3 P4 P5 P6 P7 P8 P9 P10)
+
+if [ $report_only -eq 0 ]; then
+  for p in "${patients[@]}"; do
+    out="$work/$p"
+    rm -rf "$out"
+    mkdir -p "$out"
+    # The scene with its output folder redirected into the build tree.
+    sed "s|set Output directory = .*|set Output directory = $root/$out|" \
+      "prm/patients/$p.prm" > "$out/scene.prm"
+    echo "patients: $p"
+    start=$(date +%s%N)
+    set +e
+    /usr/bin/time -v build/softface "$out/scene.prm" > "$out/log.txt" 2> "$out/stderr.txt"
+    code=$?
+    set -e
+    end=$(date +%s%N)
+    echo "$code $(( (end - start) / 1000000 ))" > "$out/exit_code"  # exit code, wall ms
+    grep -E "^ *(model|linear fem|mass tensor|mass spring|nonlinear fem) +[0-9m]" "$out/log.txt" || true
+    grep "Maximum resident" "$out/stderr.txt" || true
+    /usr/bin/python3 benchmarks/patients/render.py "$out/patient/skin.ply" \
+      "$out/patient/skull.ply" "$results/patients/$p.png" \
+      --title "$p: $(grep -m1 '^# Phantom patient' "prm/patients/$p.prm" | sed 's/.*Table 2: //; s/,.*//')" ||
+      echo "patients: $p: no image"
+  done
+fi
+
+/usr/bin/python3 benchmarks/patients/report.py "$work" "$results"

@@ -1,0 +1,37 @@
+// Points and directions of the patient subsections ('x, y, z'), read one
+// way with one message for everything that is not three numbers.
+
+#include <deal.II/base/utilities.h>
+
+#include <softface/core/error.h>
+#include <softface/patient/vec3_parameter.h>
+
+#include <cmath>
+
+namespace softface
+{
+  namespace Patient
+  {
+    Vec3
+    parse_vec3(const std::string &text, const std::string &where)
+    {
+      const auto items = dealii::Utilities::split_string_list(text);
+      Vec3       v;
+      bool       ok = items.size() == 3;
+      for (unsigned int d = 0; ok && d < 3; ++d)
+        try
+          {
+            v[d] = dealii::Utilities::string_to_double(items[d]);
+            ok   = std::isfinite(v[d]);
+          }
+        catch (...)
+          {
+            ok = false;
+          }
+      if (!ok)
+        throw Error(where + ": expected three numbers 'x, y, z' (got '" + text +
+                    "').");
+      return v;
+    }
+  } // namespace Patient
+} // namespace softface
