@@ -83,7 +83,7 @@ SOFTFACE_TEST(manufactured_solution)
       cube.inner_size          = 0.5;
       cube.target_n_tetrahedra = 6 * boxes * boxes * boxes;
       Mesh::generate_cube(cube, scene.triangulation);
-      scene.segments = {{"boundary", {}, {Mesh::cube_outer_face}}};
+      scene.segments = {{"boundary", {}, {Mesh::cube_outer_face}, {}}};
       scene.material.youngs_modulus_pa = 1e6; // E = 1 N/mm^2
       scene.material.poissons_ratio    = 0.3;
       scene.setup();

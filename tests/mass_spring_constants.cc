@@ -30,7 +30,7 @@ namespace
     Scene scene;
     scene.triangulation.create_triangulation(points, cells, SubCellData());
     scene.material.youngs_modulus_pa = 1e6;
-    scene.segments                   = {{"all", {0}, {}}};
+    scene.segments                   = {{"all", {0}, {}, {}}};
     scene.setup();
     Models::MassSpring msm;
     msm.setup(scene);

@@ -133,8 +133,8 @@ SOFTFACE_TEST(nonlinear_hard_cases)
   // Slivers: interior vertices pushed pseudo-randomly by the largest
   // fraction of the grid spacing (tried from 40% down) that inverts no cell.
   Scene sliver;
-  sliver.segments  = {{"fixed", {}, {Mesh::cube_outer_face}},
-                      {"bone", {Mesh::cube_inner_id}, {}}};
+  sliver.segments  = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                      {"bone", {Mesh::cube_inner_id}, {}, {}}};
   double amplitude = 0.40;
   for (;; amplitude -= 0.02)
     {

@@ -67,7 +67,7 @@ SOFTFACE_TEST(nonlinear_vs_linear)
     Mesh::CubeParameters cube;
     cube.target_n_tetrahedra = 3000;
     Mesh::generate_cube(cube, scene.triangulation);
-    scene.segments = {{"bone", {Mesh::cube_inner_id}, {}}};
+    scene.segments = {{"bone", {Mesh::cube_inner_id}, {}, {}}};
     scene.setup();
     const RigidMotion motion(Point<3>(1, 2, -1),
                              Point<3>(1, 1, 1),

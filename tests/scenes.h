@@ -24,8 +24,8 @@ namespace softface_tests
     cube.target_n_tetrahedra = target_n_tetrahedra;
     Mesh::generate_cube(cube, scene.triangulation);
     scene.mesh_description = "generated cube";
-    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}},
-                              {"bone", {Mesh::cube_inner_id}, {}}};
+    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                              {"bone", {Mesh::cube_inner_id}, {}, {}}};
     scene.setup();
   }
 
@@ -54,10 +54,10 @@ namespace softface_tests
       scene.triangulation);
     scene.mesh_description = "distorted cube";
     if (with_bone)
-      scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}},
-                        {"bone", {Mesh::cube_inner_id}, {}}};
+      scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                        {"bone", {Mesh::cube_inner_id}, {}, {}}};
     else
-      scene.segments = {{"boundary", {}, {Mesh::cube_outer_face}}};
+      scene.segments = {{"boundary", {}, {Mesh::cube_outer_face}, {}}};
     scene.setup();
   }
 
