@@ -1,11 +1,14 @@
 // Bad input to the patient pipeline ends with one message naming the file
 // or the parameter, and a non-zero exit code, never a crash or a result made
-// of half-written files: a CT that does not exist, is not an image, or is
-// not 3D; a threshold that selects nothing; a region of interest outside the
-// volume or touching no bone; a seed point in no bone; two segments that no
-// cut separates; a bone part with no join point. Each scene is the
-// small phantom (2 mm voxels) with one thing wrong; they share one work
-// directory, so the stages that did not change are reused.
+// of half-written files: a CT that does not exist, is not an image, is cut
+// short, or is not 3D; a phantom too large to hold; a malformed plane; a
+// threshold that selects nothing; a region of interest outside the volume or
+// touching no bone; a seed point in no bone; two segments that no cut
+// separates; a bone part with no join point. Each scene is the small phantom (2
+// mm voxels) with one thing wrong; they share one work directory, so the stages
+// that did not change are reused.
+
+#include <softface/patient/image_io.h>
 
 #include "run_scene.h"
 
@@ -84,7 +87,28 @@ SOFTFACE_TEST(patient_bad_input)
     mha.write(reinterpret_cast<const char *>(pixels), sizeof(pixels));
   }
 
+  // A compressed volume cut in half.
+  {
+    softface::Patient::CTVolume v;
+    v.size = {{40, 40, 40}};
+    v.values.assign(v.n_voxels(), 0);
+    for (std::size_t i = 0; i < v.values.size(); ++i)
+      v.values[i] = static_cast<std::int16_t>((i * 7919) % 2000 - 1000);
+    softface::Patient::write_volume(v, "patient_bad_input_cut.nii.gz");
+    std::filesystem::resize_file(
+      "patient_bad_input_cut.nii.gz",
+      std::filesystem::file_size("patient_bad_input_cut.nii.gz") / 2);
+  }
+
   run_case("missing CT", "    set CT volume = no_such_ct.nii.gz\n");
+  run_case("truncated CT",
+           "    set CT volume = patient_bad_input_cut.nii.gz\n");
+  run_case("enormous phantom",
+           "    subsection Phantom\n      set Field of view = 5000, 5000, "
+           "5000\n    end\n");
+  run_case("malformed plane",
+           "    subsection Region of interest\n      set Planes = 0, 0, x, 0, "
+           "0, 1\n    end\n");
   run_case("not an image",
            "    set CT volume = patient_bad_input_garbage.nii.gz\n");
   run_case("not 3D", "    set CT volume = patient_bad_input_slice.mha\n");

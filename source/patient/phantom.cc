@@ -476,6 +476,17 @@ namespace softface
           ct.origin[d] =
             prm.centre[d] - 0.5 * (ct.size[d] - 1) * prm.voxel_size;
         }
+      // The stages hold about 40 bytes a voxel: refuse what no machine of
+      // ours holds instead of running out of memory half-way.
+      const double n_voxels = double(ct.size[0]) * ct.size[1] * ct.size[2];
+      if (n_voxels > max_voxels)
+        throw Error("Scene/Patient/Phantom: 'Field of view' / 'Voxel size' "
+                    "make " +
+                    std::to_string(ct.size[0]) + " x " +
+                    std::to_string(ct.size[1]) + " x " +
+                    std::to_string(ct.size[2]) + " voxels, more than " +
+                    std::to_string(max_voxels / 1000000) +
+                    " million; use larger voxels or a smaller field of view.");
       return ct;
     }
 

@@ -323,17 +323,14 @@ namespace softface
       for (const auto &plane :
            dealii::Utilities::split_string_list(prm.get("Planes"), ';'))
         {
-          const auto v = dealii::Utilities::split_string_list(plane);
+          const std::string where = "Scene/Patient/Region of interest/Planes";
+          const auto        v     = dealii::Utilities::split_string_list(plane);
           if (v.size() != 6)
-            throw Error("Scene/Patient/Region of interest/Planes: each plane "
-                        "is 'px, py, pz, nx, ny, nz' (got '" +
+            throw Error(where +
+                        ": each plane is 'px, py, pz, nx, ny, nz' (got '" +
                         plane + "').");
-          Vec3 p, n;
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              p[d] = dealii::Utilities::string_to_double(v[d]);
-              n[d] = dealii::Utilities::string_to_double(v[3 + d]);
-            }
+          const Vec3 p = parse_vec3(v[0] + "," + v[1] + "," + v[2], where);
+          const Vec3 n = parse_vec3(v[3] + "," + v[4] + "," + v[5], where);
           roi.planes.emplace_back(p, n);
         }
       prm.leave_subsection();

@@ -4,8 +4,10 @@
 #include <softface/core/error.h>
 #include <softface/patient/surface.h>
 
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCleanPolyData.h>
+#include <vtkCommand.h>
 #include <vtkFloatArray.h>
 #include <vtkFlyingEdges3D.h>
 #include <vtkIdList.h>
@@ -18,11 +20,15 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataConnectivityFilter.h>
+#include <vtkSmartPointer.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
 
 namespace softface
 {
@@ -60,6 +66,8 @@ namespace softface
       from_vtk(vtkPolyData *data, const std::string &source)
       {
         TriangleSurface surface;
+        if (data->GetPoints() == nullptr)
+          return surface;
         surface.points.resize(data->GetNumberOfPoints());
         for (vtkIdType i = 0; i < data->GetNumberOfPoints(); ++i)
           data->GetPoint(i, surface.points[i].data());
@@ -72,12 +80,98 @@ namespace softface
               throw Error("Surface '" + source + "': a polygon with " +
                           std::to_string(ids->GetNumberOfIds()) +
                           " corners; softface reads triangles only.");
+            for (unsigned int c = 0; c < 3; ++c)
+              if (ids->GetId(c) < 0 ||
+                  ids->GetId(c) >= data->GetNumberOfPoints())
+                throw Error("Surface '" + source +
+                            "': a triangle names point " +
+                            std::to_string(ids->GetId(c)) + " of " +
+                            std::to_string(data->GetNumberOfPoints()) + ".");
             surface.triangles.push_back(
               {{static_cast<unsigned int>(ids->GetId(0)),
                 static_cast<unsigned int>(ids->GetId(1)),
                 static_cast<unsigned int>(ids->GetId(2))}});
           }
         return surface;
+      }
+      // VTK's readers report a file they cannot read as an error event (and
+      // an error print), not an exception: turn it into one message.
+      class ReaderErrors : public vtkCommand
+      {
+      public:
+        static ReaderErrors *
+        New()
+        {
+          return new ReaderErrors;
+        }
+        void
+        Execute(vtkObject *, unsigned long, void *call_data) override
+        {
+          if (message.empty() && call_data != nullptr)
+            message = static_cast<const char *>(call_data);
+          failed = true;
+        }
+        bool        failed = false;
+        std::string message;
+      };
+
+      // VTK's PLY reader trusts the header's counts (a hostile one crashes
+      // it): the vertices must have x, y and z, and the file must be long
+      // enough for them (3 bytes a vertex at the very least).
+      void
+      check_ply_header(const std::string &filename)
+      {
+        std::ifstream         in(filename, std::ios::binary);
+        std::string           line, word;
+        double                n_vertices = -1.;
+        std::string           element;
+        std::set<std::string> properties;
+        while (std::getline(in, line) && line.rfind("end_header", 0) != 0)
+          {
+            std::istringstream words(line);
+            words >> word;
+            if (word == "element")
+              {
+                words >> element;
+                if (element == "vertex")
+                  words >> n_vertices;
+              }
+            else if (word == "property" && element == "vertex")
+              {
+                std::string last;
+                while (words >> word)
+                  last = word;
+                properties.insert(last);
+              }
+          }
+        const auto size = std::filesystem::file_size(filename);
+        if (!in || n_vertices < 0. || !properties.count("x") ||
+            !properties.count("y") || !properties.count("z") ||
+            3. * n_vertices > double(size))
+          throw Error("Surface '" + filename +
+                      "' cannot be read: not a PLY file of vertices with x, y, "
+                      "z, or shorter than its header says.");
+      }
+
+      template <typename Reader>
+      vtkSmartPointer<vtkPolyData>
+      read_with(const std::string &filename)
+      {
+        vtkNew<Reader>       reader;
+        vtkNew<ReaderErrors> errors;
+        reader->AddObserver(vtkCommand::ErrorEvent, errors);
+        reader->AddObserver(vtkCommand::WarningEvent, errors);
+        reader->SetFileName(filename.c_str());
+        reader->Update();
+        if (errors->failed)
+          {
+            // VTK's message ends with its own newline.
+            std::string m = errors->message;
+            while (!m.empty() && (m.back() == '\n' || m.back() == ' '))
+              m.pop_back();
+            throw Error("Surface '" + filename + "' cannot be read: " + m);
+          }
+        return reader->GetOutput();
       }
     } // namespace
 
@@ -208,18 +302,11 @@ namespace softface
       vtkSmartPointer<vtkPolyData> data;
       if (extension == ".ply")
         {
-          vtkNew<vtkPLYReader> reader;
-          reader->SetFileName(filename.c_str());
-          reader->Update();
-          data = reader->GetOutput();
+          check_ply_header(filename);
+          data = read_with<vtkPLYReader>(filename);
         }
       else if (extension == ".vtp")
-        {
-          vtkNew<vtkXMLPolyDataReader> reader;
-          reader->SetFileName(filename.c_str());
-          reader->Update();
-          data = reader->GetOutput();
-        }
+        data = read_with<vtkXMLPolyDataReader>(filename);
       else
         throw Error("Surface '" + filename +
                     "': unknown format (softface reads .ply and .vtp).");

@@ -100,7 +100,10 @@ namespace softface
       void
       acquire(CTVolume &ct, LabelVolume &truth) const;
 
-      /// The grid the acquisition uses.
+      /// The largest grid grid() makes (a 0.5 mm head is 88 million).
+      static constexpr std::size_t max_voxels = 400000000;
+
+      /// The grid the acquisition uses; an Error past max_voxels.
       CTVolume
       grid() const;
 

@@ -7,6 +7,10 @@
 
 #include "itk_volume.h"
 
+#include <zlib.h>
+
+#include <vector>
+
 #include <itkGDCMImageIO.h>
 #include <itkGDCMSeriesFileNames.h>
 #include <itkImage.h>
@@ -23,6 +27,27 @@ namespace softface
   {
     namespace
     {
+      // ITK reads a truncated or damaged .gz as a volume padded with
+      // zeros; gzip's own checks (length and CRC) refuse it.
+      void
+      check_gzip(const std::string &filename)
+      {
+        gzFile file = gzopen(filename.c_str(), "rb");
+        if (file == nullptr)
+          throw Error("cannot be opened");
+        std::vector<char> buffer(1 << 16);
+        int               n;
+        while ((n = gzread(file, buffer.data(), buffer.size())) > 0)
+          ;
+        int               code    = Z_OK;
+        const std::string message = gzerror(file, &code);
+        const int         closed  = gzclose_r(file);
+        if (n < 0 || (code != Z_OK && code != Z_STREAM_END) || closed != Z_OK)
+          throw Error("a truncated or damaged gzip file (" +
+                      (message.empty() ? std::string("zlib error") : message) +
+                      ")");
+      }
+
       template <typename T>
       Volume<T>
       read(const std::string &filename)
@@ -50,12 +75,27 @@ namespace softface
               }
             if (!std::filesystem::exists(filename))
               throw Error("no such file");
+            if (filename.size() > 3 &&
+                filename.compare(filename.size() - 3, 3, ".gz") == 0)
+              check_gzip(filename);
             auto io = itk::ImageIOFactory::CreateImageIO(
               filename.c_str(), itk::CommonEnums::IOFileMode::ReadMode);
             if (!io)
               throw Error("not an image format ITK reads");
             io->SetFileName(filename);
             io->ReadImageInformation();
+            // A single-file volume shorter than its voxels is truncated (ITK
+            // would pad it); header and data in two files are ITK's to check.
+            const auto extension = std::filesystem::path(filename).extension();
+            if ((extension == ".nii" || extension == ".nrrd" ||
+                 extension == ".mha") &&
+                std::filesystem::file_size(filename) <
+                  io->GetImageSizeInBytes())
+              throw Error("truncated: it holds " +
+                          std::to_string(std::filesystem::file_size(filename)) +
+                          " bytes for " +
+                          std::to_string(io->GetImageSizeInBytes()) +
+                          " bytes of voxels");
             if (io->GetNumberOfDimensions() != 3 || io->GetDimensions(2) < 2)
               throw Error("not a 3D volume (" +
                           std::to_string(io->GetNumberOfDimensions()) +
