@@ -5,6 +5,7 @@
 
 #include <softface/core/error.h>
 #include <softface/core/threads.h>
+#include <softface/effects/interface.h>
 #include <softface/models/interface.h>
 #include <softface/simulator/simulator.h>
 
@@ -55,7 +56,8 @@ main(int argc, char **argv)
       if (argument == "--help" || argument == "-h")
         {
           std::cout << usage << "\nmodels:\n"
-                    << softface::Models::describe_registered();
+                    << softface::Models::describe_registered() << "\neffects:\n"
+                    << softface::Effects::describe_registered();
           return 0;
         }
       if (argument == "--print-parameters")

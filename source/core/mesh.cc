@@ -63,6 +63,14 @@ namespace softface
                         "along the same diagonal direction (1, 1, 1), and a "
                         "symmetric planning gets a slightly asymmetric "
                         "answer.");
+      prm.declare_entry("Upper tissue material id",
+                        "1",
+                        Patterns::Integer(1, 255),
+                        "Material id of the tissue cells above the mid-plane "
+                        "z = L/2 (outside the inner cube): a second tissue "
+                        "for Effects/heterogeneous tissue. The default, 1, "
+                        "is the tissue below it (one tissue). 2 is the "
+                        "inner cube's.");
       prm.leave_subsection();
     }
 
@@ -75,7 +83,11 @@ namespace softface
       target_n_tetrahedra = prm.get_integer("Target number of tetrahedra");
       grading             = prm.get_double("Grading");
       mirror_symmetric    = prm.get_bool("Mirror-symmetric split");
+      upper_material_id   = prm.get_integer("Upper tissue material id");
       prm.leave_subsection();
+      if (upper_material_id == cube_inner_id)
+        throw Error("Scene/Cube/Upper tissue material id: 2 is the inner "
+                    "cube's material id; choose another.");
       if (!(edge_length > 0.) || !(inner_size > 0.) ||
           !(inner_size < edge_length))
         throw Error("Scene/Cube: the inner region size (" +
@@ -225,7 +237,10 @@ namespace softface
                      vertices[cell.vertices[3]]}};
                   if (Tetrahedron::signed_volume(x) < 0)
                     std::swap(cell.vertices[1], cell.vertices[2]);
-                  cell.material_id = inner ? cube_inner_id : cube_tissue_id;
+                  cell.material_id = inner ? cube_inner_id :
+                                     centre[2] > L / 2. ?
+                                             parameters.upper_material_id :
+                                             cube_tissue_id;
                   cells.push_back(cell);
                 }
             }

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <vector>
 
 namespace softface
 {
@@ -109,12 +110,16 @@ namespace softface
     void
     assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
     {
-      const Tensor<4, 3> A = linear_tangent(scene.material.lame());
-      stiffness            = 0;
+      // One tangent per tissue (one without heterogeneous tissue).
+      std::vector<Tensor<4, 3>> A;
+      for (unsigned int t = 0; t < scene.n_tissues(); ++t)
+        A.push_back(linear_tangent(scene.tissue(t).lame()));
+      stiffness = 0;
       for (const auto &cell : scene.triangulation.active_cell_iterators())
         ConstrainedSystem::add_cell_matrix(
           ConstrainedSystem::cell_dofs(scene, cell),
-          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)), A),
+          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)),
+                       A[scene.tissue_of_cell(cell->active_cell_index())]),
           stiffness);
     }
 

@@ -70,9 +70,24 @@ namespace softface
       , where_refused(where_refused)
   {}
 
+  bool
+  LoadSteppedNewton::unbalanced_forces(
+    const Vector<double> &u,
+    const double          load,
+    Vector<double>       &forces,
+    SparseMatrix<double> *tangent_matrix) const
+  {
+    if (!evaluate(u, forces, tangent_matrix))
+      return false;
+    if (external != nullptr)
+      forces.add(-load, *external);
+    return true;
+  }
+
   LoadSteppedNewton::StepResult
   LoadSteppedNewton::step(Vector<double>       &u,
                           const Vector<double> &target,
+                          const double          load,
                           TimerOutput          &timer,
                           std::ostream         *progress)
   {
@@ -99,7 +114,7 @@ namespace softface
         const bool         first         = (it == 0);
         {
           TimerOutput::Scope scope(timer, "assembly");
-          if (!evaluated && !evaluate(u, forces, &tangent))
+          if (!evaluated && !unbalanced_forces(u, load, forces, &tangent))
             {
               result.reason = "a tetrahedron is inverted" +
                               (where_refused ? where_refused() : "");
@@ -177,7 +192,7 @@ namespace softface
             bool valid;
             {
               TimerOutput::Scope scope(timer, "assembly");
-              valid = evaluate(trial, trial_forces, &tangent);
+              valid = unbalanced_forces(trial, load, trial_forces, &tangent);
             }
             if (valid && (first || free_norm(trial_forces) <=
                                      (1. - 1e-4 * alpha) * residual))
@@ -226,8 +241,10 @@ namespace softface
                            TimerOutput          &timer,
                            std::ostream         *progress,
                            const std::string    &description,
-                           const std::string    &hint)
+                           const std::string    &hint,
+                           const Vector<double> *external_forces)
   {
+    external             = external_forces;
     const unsigned int n = join_motion.size();
     report               = Report();
     reference_force      = 0.;
@@ -238,7 +255,7 @@ namespace softface
       {
         const double next = std::min(1., load + increment);
         target.equ(next, join_motion);
-        const StepResult result = step(u, target, timer, progress);
+        const StepResult result = step(u, target, next, timer, progress);
         if (result.converged)
           {
             load      = next;

@@ -62,6 +62,12 @@ namespace softface
     Interface::parse_parameters(ParameterHandler &)
     {}
 
+    unsigned int
+    Interface::honoured_effects() const
+    {
+      return SceneEffects::none;
+    }
+
     void
     Interface::setup(const Scene &scene)
     {

@@ -47,6 +47,12 @@ namespace softface
       solver_parameters.parse_tuning_parameters(prm, false);
     }
 
+    unsigned int
+    LinearFEM::honoured_effects() const
+    {
+      return SceneEffects::cell_materials | SceneEffects::body_forces;
+    }
+
     void
     LinearFEM::set_solver(const std::string &name, const double tolerance)
     {
@@ -97,19 +103,20 @@ namespace softface
       const unsigned int       n       = is_join.size();
 
       // -K_fj u_j (+ f) on the free rows, K_jj u_j on the join rows.
+      // External forces: those set by set_nodal_forces() and the scene's
+      // body force (gravity), if any.
       Vector<double> rhs, minus_forces;
-      if (nodal_forces.size() == n)
+      const bool loaded = nodal_forces.size() == n || scene->has_body_force();
+      if (loaded)
         {
-          minus_forces = nodal_forces;
-          minus_forces *= -1.;
+          minus_forces.reinit(n);
+          if (nodal_forces.size() == n)
+            minus_forces -= nodal_forces;
+          if (scene->has_body_force())
+            minus_forces -= scene->effects.body_force;
         }
-      ConstrainedSystem::right_hand_side(stiffness,
-                                         is_join,
-                                         prescribed,
-                                         nodal_forces.size() == n ?
-                                           &minus_forces :
-                                           nullptr,
-                                         rhs);
+      ConstrainedSystem::right_hand_side(
+        stiffness, is_join, prescribed, loaded ? &minus_forces : nullptr, rhs);
 
       // Start from the join values, so that the join rows hold at once.
       displacement.reinit(n);

@@ -69,6 +69,12 @@ namespace softface
       prevent_inversion = prevent;
     }
 
+    unsigned int
+    MassSpring::honoured_effects() const
+    {
+      return SceneEffects::cell_materials | SceneEffects::body_forces;
+    }
+
     void
     MassSpring::do_setup(const Scene &scene_in)
     {
@@ -80,20 +86,26 @@ namespace softface
       const auto        &neighbour = mesh->neighbour;
 
       // seed eq. 5: every edge once, with the volume of the tetrahedra that
-      // share it (summed at the edge's position (j, k), j < k).
+      // share it (summed at the edge's position (j, k), j < k). With
+      // heterogeneous tissue each cell's volume is weighted by its modulus
+      // relative to Scene::material's (Gelder's formula per cell).
+      const double        E = scene->material.youngs_modulus();
+      std::vector<double> weight;
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        weight.push_back(scene->tissue(t).youngs_modulus() / E);
       std::vector<double> edge_volume(neighbour.size(), 0.);
       unsigned int        c = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          const auto  &p = mesh->tetrahedra[c++];
           const double volume =
+            weight[scene->tissue_of_cell(c)] *
             Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
+          const auto &p = mesh->tetrahedra[c++];
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = a + 1; b < 4; ++b)
               edge_volume[mesh->edge_index(std::min(p[a], p[b]),
                                            std::max(p[a], p[b]))] += volume;
         }
-      const double E = scene->material.youngs_modulus();
       spring_list.clear();
       spring_of.assign(neighbour.size(), 0);
       total_stiffness.assign(n, 0.);
@@ -145,10 +157,16 @@ namespace softface
       const unsigned int n             = rest_position.size();
 
       std::vector<Point<3>> x(rest_position);
+      // External nodal forces (gravity), if the scene has them.
+      const double *const load =
+        scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
 
       // The force on point j (seed eq. 4) and its shortest spring.
       const auto force = [&](const unsigned int j, double &shortest) {
         Tensor<1, 3> F;
+        if (load != nullptr)
+          for (unsigned int c = 0; c < 3; ++c)
+            F[c] = load[3 * j + c];
         shortest = std::numeric_limits<double>::max();
         for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
           {
@@ -184,9 +202,10 @@ namespace softface
                   std::min(shortest_at_join,
                            spring_list[spring_of[i]].rest_length);
           }
+      // A load alone (no bone moves) still needs one step.
       const unsigned int n_load_steps =
         moving_joins.empty() ?
-          0 :
+          (load != nullptr ? 1 : 0) :
           std::max(1.,
                    std::ceil(largest_motion /
                              (max_step_fraction * shortest_at_join)));
@@ -209,6 +228,11 @@ namespace softface
       for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
         {
           const double fraction = double(load_step) / n_load_steps;
+          // The load is there from the start: every free point feels it.
+          if (load_step == 1 && load != nullptr)
+            for (unsigned int j = 0; j < n; ++j)
+              if (is_free[j])
+                active.queue(j);
           for (const unsigned int j : moving_joins)
             {
               for (unsigned int c = 0; c < 3; ++c)

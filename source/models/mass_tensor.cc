@@ -133,6 +133,12 @@ namespace softface
       precision_history_file = filename;
     }
 
+    unsigned int
+    MassTensor::honoured_effects() const
+    {
+      return SceneEffects::cell_materials | SceneEffects::body_forces;
+    }
+
     void
     MassTensor::do_setup(const Scene &scene_in)
     {
@@ -145,13 +151,17 @@ namespace softface
       // seed eqs. 9-10: sum the tetrahedra's tensors per point and per edge.
       coupling.assign(mesh->neighbour.size(), Block{});
       diagonal.assign(n, Block{});
-      const Tensor<4, 3> A = Elasticity::linear_tangent(scene->material.lame());
-      unsigned int       c = 0;
+      std::vector<Tensor<4, 3>> A; // one per tissue
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        A.push_back(Elasticity::linear_tangent(scene->tissue(t).lame()));
+      unsigned int c = 0;
       for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          const auto                  &p = mesh->tetrahedra[c++];
-          const Elasticity::CellMatrix K = Elasticity::p1_stiffness(
-            Tetrahedron::geometry(Tetrahedron::vertices(cell)), A);
+          const Elasticity::CellMatrix K =
+            Elasticity::p1_stiffness(Tetrahedron::geometry(
+                                       Tetrahedron::vertices(cell)),
+                                     A[scene->tissue_of_cell(c)]);
+          const auto &p = mesh->tetrahedra[c++];
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = 0; b < 4; ++b)
               {
@@ -222,8 +232,10 @@ namespace softface
                         "definite; no converged answer to compare with.");
           converged_ready = true;
         }
-      // -K_fj u_j on the free rows, K_jj u_j on the join rows.
+      // f_j - K_fj u_j on the free rows, K_jj u_j on the join rows.
       Vector<double> rhs(3 * n);
+      if (scene->has_body_force())
+        rhs = scene->effects.body_force;
       for (unsigned int j = 0; j < n; ++j)
         for (unsigned int r = 0; r < 3; ++r)
           {
@@ -262,6 +274,9 @@ namespace softface
           for (unsigned int c = 0; c < 3; ++c)
             displacement[3 * j + c] = prescribed[3 * j + c];
       double *const u = displacement.begin();
+      // seed eq. 12's external force f_j (gravity), if the scene has one.
+      const double *const load =
+        scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
       // No update of a converging scheme moves a point by more than the
       // largest prescribed motion times a generous factor.
       const double divergence_bound = 1e3 * (prescribed.linfty_norm() + 1.);
@@ -277,7 +292,7 @@ namespace softface
       for (unsigned int j = 0; j < n; ++j)
         if (is_free[j])
           {
-            bool touched = !use_active_set;
+            bool touched = !use_active_set || load != nullptr;
             for (unsigned int i = row_start[j];
                  i < row_start[j + 1] && !touched;
                  ++i)
@@ -356,8 +371,14 @@ namespace softface
           for (unsigned int q = 0; q < current.size(); ++q)
             {
               const unsigned int j = current[q];
-              // seed eq. 12: u_j = -K_jj^-1 sum_k K_jk u_k
+              // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
               double f0 = 0., f1 = 0., f2 = 0.;
+              if (load != nullptr)
+                {
+                  f0 = -load[3 * j];
+                  f1 = -load[3 * j + 1];
+                  f2 = -load[3 * j + 2];
+                }
               for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                 {
                   const double *B  = coupling[i].data();
@@ -446,6 +467,12 @@ namespace softface
                       f[a] += t;
                   }
               }
+            if (load != nullptr)
+              for (unsigned int a = 0; a < 3; ++a)
+                {
+                  r[a] -= load[3 * j + a];
+                  f[a] -= load[3 * j + a];
+                }
             const double *B  = diagonal[j].data();
             const double *uj = u + 3 * j;
             for (unsigned int a = 0; a < 3; ++a)

@@ -92,7 +92,8 @@ namespace softface
     void
     NonlinearElasticity::do_setup(const Scene &scene_in)
     {
-      scene = &scene_in;
+      scene      = &scene_in;
+      body_force = nullptr;
       dof_points.clear();
       dof_component.clear();
       setup_layout();
@@ -145,8 +146,8 @@ namespace softface
         is_join,
         linear_solver,
         [this]() { return refusal; });
-      last_report =
-        newton.solve(motion, u, timer(), progress, description, hint);
+      last_report = newton.solve(
+        motion, u, timer(), progress, description, hint, body_force);
       vertex_values(u, displacement);
 
       set_iterations(last_report.newton_iterations);

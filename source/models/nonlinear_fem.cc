@@ -23,10 +23,21 @@ namespace softface
       NonlinearElasticity::declare_parameters(prm);
     }
 
+    unsigned int
+    NonlinearFEM::honoured_effects() const
+    {
+      return SceneEffects::cell_materials | SceneEffects::body_forces;
+    }
+
     void
     NonlinearFEM::setup_layout()
     {
       is_join = scene->join_dofs();
+      tissue_lame.clear();
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        tissue_lame.push_back(scene->tissue(t).lame());
+      body_force =
+        scene->has_body_force() ? &scene->effects.body_force : nullptr;
       {
         const auto timed = phase("cell geometry");
         cell_dofs.clear();
@@ -84,7 +95,6 @@ namespace softface
                            Vector<double>       &forces,
                            SparseMatrix<double> *tangent) const
     {
-      const Lame lame = scene->material.lame();
       forces.reinit(u.size());
       double *values = nullptr;
       if (tangent != nullptr)
@@ -106,7 +116,7 @@ namespace softface
             for (unsigned int i = 0; i < 3; ++i)
               u_cell[a][i] = u[dofs[3 * a + i]];
           if (!Elasticity::p1_response(law,
-                                       lame,
+                                       tissue_lame[scene->tissue_of_cell(c)],
                                        cell_geometry[c],
                                        u_cell,
                                        tangent != nullptr,

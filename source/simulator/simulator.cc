@@ -9,6 +9,7 @@
 #include <softface/core/error.h>
 #include <softface/core/planning.h>
 #include <softface/core/scene.h>
+#include <softface/effects/interface.h>
 #include <softface/fe/point_evaluation.h>
 #include <softface/io/output_file.h>
 #include <softface/io/points_csv.h>
@@ -113,6 +114,7 @@ namespace softface
     Scene::declare_parameters(prm, segment_names, cut_names);
     Planning::declare_parameters(prm, moved_segments);
     Models::declare_parameters(prm);
+    Effects::declare_parameters(prm);
     OutputParameters::declare_parameters(prm);
   }
 
@@ -156,10 +158,22 @@ namespace softface
     reference = output.reference_model;
     std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>>
       models;
+    std::vector<std::pair<std::string, std::unique_ptr<Effects::Interface>>>
+      effects;
     try
       {
         for (const std::string &name : Models::selected_names(prm))
           models.emplace_back(name, Models::create(name, prm));
+        // Every selected model must simulate every effect the scene calls
+        // for; this is known before any work.
+        for (const std::string &name : Effects::selected_names(prm))
+          effects.emplace_back(name, Effects::create(name, prm));
+        for (const auto &[model_name, model] : models)
+          for (const auto &[effect_name, effect] : effects)
+            Effects::check_supported(model_name,
+                                     model->honoured_effects(),
+                                     effect_name,
+                                     *effect);
         if (!output.reference_model.empty())
           {
             const auto known = Models::registered_names();
@@ -184,6 +198,12 @@ namespace softface
                            &out);
     Planning planning;
     planning.parse_parameters(prm, scene);
+    for (const auto &[name, effect] : effects)
+      {
+        const std::string summary = effect->apply(scene);
+        scene.effects.names.push_back(name);
+        out << "  effect " << summary << std::endl;
+      }
 
     out << "  mesh " << scene.mesh_description << ": "
         << scene.triangulation.n_active_cells() << " tetrahedra, "

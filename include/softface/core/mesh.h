@@ -47,6 +47,8 @@ namespace softface
       unsigned int target_n_tetrahedra = 30000;
       double       grading             = 1.;
       bool         mirror_symmetric    = false;
+      /// Material id of the tissue above z = L/2 (1: one tissue).
+      types::material_id upper_material_id = cube_tissue_id;
     };
 
     void

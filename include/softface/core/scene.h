@@ -6,6 +6,7 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
 #include <deal.II/grid/tria.h>
+#include <deal.II/lac/vector.h>
 
 #include <softface/core/material.h>
 #include <softface/core/mesh.h>
@@ -34,6 +35,31 @@ namespace softface
     /// A point in the segment's bone (patient scenes: which bone part of
     /// the osteotomy is this segment); empty for other scenes.
     std::vector<double> seed_point;
+  };
+
+  /**
+   * What a scene's effects (effects/interface.h) add to it. All empty unless
+   * the scene names an effect; a model then reads Scene::material in every
+   * cell and feels no load but the bone motion.
+   */
+  struct SceneEffects
+  {
+    /// What a model must honour to simulate an effect (bit flags).
+    enum Contribution : unsigned int
+    {
+      none           = 0,
+      cell_materials = 1, ///< tissues per cell (tissues, tissue_of_cell)
+      body_forces    = 2  ///< nodal loads (body_force)
+    };
+
+    /// The names of the effects applied, in the order they were applied.
+    std::vector<std::string> names;
+    /// The tissues; tissue_of_cell[c] indexes them (active cell index c).
+    std::vector<Material>      tissues;
+    std::vector<unsigned char> tissue_of_cell;
+    /// Nodal loads in N on the shared layout (the consistent P1 loads of a
+    /// body force), added to every model's equilibrium.
+    Vector<double> body_force;
   };
 
   /**
@@ -134,6 +160,33 @@ namespace softface
     bool resolve_shared_join_points = false;
     /// The vertices that touched two segments and were left free.
     unsigned int n_shared_join_points = 0;
+
+    /// What the scene's effects contribute; empty without effects.
+    SceneEffects effects;
+
+    /// The tissues: Scene::material alone unless an effect made them
+    /// heterogeneous.
+    unsigned int
+    n_tissues() const
+    {
+      return effects.tissues.empty() ? 1 : effects.tissues.size();
+    }
+    const Material &
+    tissue(const unsigned int t) const
+    {
+      return effects.tissues.empty() ? material : effects.tissues[t];
+    }
+    /// The tissue of the cell with active cell index @p c.
+    unsigned int
+    tissue_of_cell(const unsigned int c) const
+    {
+      return effects.tissue_of_cell.empty() ? 0 : effects.tissue_of_cell[c];
+    }
+    bool
+    has_body_force() const
+    {
+      return effects.body_force.size() != 0;
+    }
 
     /// What the patient pipeline reported (stage, figure), if it ran.
     std::vector<std::pair<std::string, std::string>> patient_figures;

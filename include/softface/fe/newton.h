@@ -78,11 +78,12 @@ namespace softface
 
     /**
      * Carry @p u (zero on entry) to equilibrium with its join DoFs at
-     * @p join_motion. Phases go to @p timer ("assembly", "linear solves"),
-     * a line per load step to @p progress if not null. On failure throws an
-     * Error that starts with @p description (e.g. "nonlinear fem
-     * (neo-hooke, cg amg)"), gives the load step, load, residual and reason,
-     * and ends with @p hint.
+     * @p join_motion and, if not null, the external nodal forces
+     * @p external_forces (gravity), both applied in the same load steps. Phases
+     * go to @p timer ("assembly", "linear solves"), a line per load step to @p
+     * progress if not null. On failure throws an Error that starts with @p
+     * description (e.g. "nonlinear fem (neo-hooke, cg amg)"), gives the load
+     * step, load, residual and reason, and ends with @p hint.
      */
     Report
     solve(const Vector<double> &join_motion,
@@ -90,7 +91,8 @@ namespace softface
           TimerOutput          &timer,
           std::ostream         *progress,
           const std::string    &description,
-          const std::string    &hint);
+          const std::string    &hint,
+          const Vector<double> *external_forces = nullptr);
 
   private:
     struct StepResult
@@ -104,6 +106,7 @@ namespace softface
     StepResult
     step(Vector<double>       &u,
          const Vector<double> &target,
+         const double          load,
          TimerOutput          &timer,
          std::ostream         *progress);
 
@@ -114,9 +117,17 @@ namespace softface
     LinearSolver                      &linear_solver;
     const std::function<std::string()> where_refused;
 
+    /// Internal forces minus the external ones at @p load.
+    bool
+    unbalanced_forces(const Vector<double> &u,
+                      const double          load,
+                      Vector<double>       &forces,
+                      SparseMatrix<double> *tangent) const;
+
     Report report;
     /// The largest unbalanced force a load step started with.
-    double reference_force = 0.;
+    double                reference_force = 0.;
+    const Vector<double> *external        = nullptr;
   };
 } // namespace softface
 

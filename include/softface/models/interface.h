@@ -82,6 +82,14 @@ namespace softface
       virtual void
       parse_parameters(ParameterHandler &prm);
 
+      /**
+       * The SceneEffects::Contribution flags (core/scene.h) the model
+       * honours: a scene whose effects need others stops before any work
+       * (effects/interface.h). None by default.
+       */
+      virtual unsigned int
+      honoured_effects() const;
+
       void
       setup(const Scene &scene);
 

@@ -29,6 +29,9 @@ namespace softface
       declare_parameters(ParameterHandler &prm);
       void
       parse_parameters(ParameterHandler &prm) override;
+      /// Tissues per cell and body forces.
+      unsigned int
+      honoured_effects() const override;
 
       /// Set the solver in code ("gmres jacobi", "cg amg" or "direct").
       void

@@ -39,6 +39,9 @@ namespace softface
       declare_parameters(ParameterHandler &prm);
       void
       parse_parameters(ParameterHandler &prm) override;
+      /// Tissues per cell and body forces.
+      unsigned int
+      honoured_effects() const override;
 
       void
       set_stop_threshold(const double threshold_mm);

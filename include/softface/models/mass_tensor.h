@@ -49,6 +49,9 @@ namespace softface
       declare_parameters(ParameterHandler &prm);
       void
       parse_parameters(ParameterHandler &prm) override;
+      /// Tissues per cell and body forces.
+      unsigned int
+      honoured_effects() const override;
 
       /// Set the solution scheme in code (tests, benchmarks).
       void

@@ -103,6 +103,9 @@ namespace softface
       std::vector<unsigned int> dof_component;
       /// Set by evaluate() when it refuses a state.
       mutable std::string refusal;
+      /// External nodal forces on the model's layout (gravity), applied in
+      /// the load steps with the join motion; none if null.
+      const Vector<double> *body_force = nullptr;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;

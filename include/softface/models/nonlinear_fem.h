@@ -28,6 +28,10 @@ namespace softface
       static void
       declare_parameters(ParameterHandler &prm);
 
+      /// Tissues per cell and body forces.
+      unsigned int
+      honoured_effects() const override;
+
       bool
       evaluate(const Vector<double> &u,
                Vector<double>       &forces,
@@ -51,6 +55,8 @@ namespace softface
       /// act on prescribed DoFs only, so where a planning crushes them
       /// (across an osteotomy) they are left out instead of refused.
       std::vector<bool> cell_has_free_vertex;
+      /// The Lame coefficients of every tissue of the scene.
+      std::vector<Lame> tissue_lame;
     };
   } // namespace Models
 } // namespace softface

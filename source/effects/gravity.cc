@@ -1,0 +1,127 @@
+// Gravity (effects): the tissue's weight as a body force, for every model
+// (a load in both FEMs, seed eq. 12's f_j in the mass tensor model, a nodal
+// force in the mass spring model).
+
+#include <deal.II/base/utilities.h>
+#include <deal.II/grid/tria_accessor.h>
+#include <deal.II/grid/tria_iterator.h>
+
+#include <softface/core/error.h>
+#include <softface/core/tetrahedron.h>
+#include <softface/effects/interface.h>
+#include <softface/patient/vec3_parameter.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+namespace softface
+{
+  namespace Effects
+  {
+    /**
+     * The weight of the tissue, rho g per unit volume, as consistent P1 nodal
+     * loads: a quarter of each tetrahedron's weight on each of its vertices
+     * (exact for a constant body force). Units: density in kg/m^3 and g in
+     * m/s^2, as published; softface works in mm and N, so the force per
+     * mm^3 is rho g 1e-9 N. Unlike displacement loading, the answer depends
+     * on the moduli's absolute values.
+     */
+    class Gravity : public Interface
+    {
+    public:
+      static void
+      declare_parameters(ParameterHandler &prm)
+      {
+        prm.declare_entry(
+          "Gravity",
+          "0, 0, -9.81",
+          Patterns::Anything(),
+          "The gravitational acceleration in m/s^2 in the scene's frame, "
+          "'x, y, z'. The patient scenes' frame is the CT's (x to the "
+          "patient's left, y to the back of the head, z up the body): the "
+          "face seen upright is '0, 0, -9.81', lying on the back as in the "
+          "scanner '0, 9.81, 0'. The mesh is the tissue at rest as imaged; "
+          "gravity here is a load added to it.");
+        prm.declare_entry("Density",
+                          "1000",
+                          Patterns::Anything(),
+                          "Density in kg/m^3 of every material id not listed "
+                          "in 'Densities' (soft tissue is close to water).");
+        prm.declare_entry(
+          "Densities",
+          "",
+          Patterns::Anything(),
+          "Density in kg/m^3 per material id, 'id: value, ...' (e.g. '1: "
+          "1100, 2: 920, 3: 1060' for skin, fat and muscle).");
+      }
+
+      void
+      parse_parameters(ParameterHandler &prm) override
+      {
+        const auto g = Patient::parse_vec3(prm.get("Gravity"), "Gravity");
+        for (unsigned int d = 0; d < 3; ++d)
+          gravity[d] = g[d];
+        densities = parse_material_values("Densities", prm.get("Densities"));
+        const std::string density_text = prm.get("Density");
+        char             *end          = nullptr;
+        density = std::strtod(density_text.c_str(), &end);
+        if (density_text.empty() || *end != '\0' || !std::isfinite(density))
+          throw Error("Density: '" + density_text + "' is not a number.");
+        if (density < 0.)
+          throw Error("Density: " + density_text +
+                      " kg/m^3 is negative; a density must be >= 0.");
+        for (const auto &[id, rho] : densities)
+          if (rho < 0.)
+            throw Error("Densities: material id " + std::to_string(id) +
+                        " has a density of " + Utilities::to_string(rho) +
+                        " kg/m^3; a density must be >= 0.");
+      }
+
+      unsigned int
+      contributions() const override
+      {
+        return SceneEffects::body_forces;
+      }
+
+      std::string
+      apply(Scene &scene) const override
+      {
+        Vector<double> &force = scene.effects.body_force;
+        force.reinit(scene.dof_handler.n_dofs());
+        double mass = 0.;
+        for (const auto &cell : scene.triangulation.active_cell_iterators())
+          {
+            const auto   entry = densities.find(cell->material_id());
+            const double rho =
+              entry != densities.end() ? entry->second : density;
+            // kg/m^3 times mm^3 = 1e-9 kg; a quarter of its weight (N) on
+            // each vertex.
+            const double cell_mass =
+              rho * 1e-9 *
+              Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
+            mass += cell_mass;
+            for (unsigned int a = 0; a < 4; ++a)
+              for (unsigned int i = 0; i < 3; ++i)
+                force[scene.vertex_dofs()[cell->vertex_index(a)][i]] +=
+                  0.25 * cell_mass * gravity[i];
+          }
+        std::ostringstream line;
+        line << "gravity: (" << gravity << ") m/s^2, tissue mass " << mass
+             << " kg, weight " << mass * gravity.norm() << " N";
+        return line.str();
+      }
+
+    private:
+      Tensor<1, 3>                         gravity;
+      double                               density = 1000.;
+      std::map<types::material_id, double> densities;
+    };
+
+    SOFTFACE_REGISTER_EFFECT(Gravity,
+                             "gravity",
+                             "The tissue's weight (density per material id, "
+                             "gravity in the scene's frame) as a body force, "
+                             "in every model.")
+  } // namespace Effects
+} // namespace softface

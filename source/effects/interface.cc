@@ -1,0 +1,190 @@
+// The effect plugin layer (effects): the registry that the one-line
+// SOFTFACE_REGISTER_EFFECT fills, the Effects section of a parameter file,
+// and the check that every selected model honours every selected effect.
+
+#include <deal.II/base/utilities.h>
+
+#include <softface/core/error.h>
+#include <softface/effects/interface.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+
+namespace softface
+{
+  namespace Effects
+  {
+    namespace
+    {
+      // Function-local so that registrations from static initialisers in
+      // any translation unit find it constructed.
+      std::map<std::string, internal::Registration> &
+      registry()
+      {
+        static std::map<std::string, internal::Registration> effects;
+        return effects;
+      }
+
+      std::string
+      contribution_names(const unsigned int flags)
+      {
+        std::string names;
+        const auto  add = [&](const std::string &name) {
+          names += (names.empty() ? "" : " and ") + name;
+        };
+        if (flags & SceneEffects::cell_materials)
+          add("tissues per cell");
+        if (flags & SceneEffects::body_forces)
+          add("body forces");
+        return names;
+      }
+    } // namespace
+
+    void
+    Interface::parse_parameters(ParameterHandler &)
+    {}
+
+    bool
+    internal::register_effect(const std::string &name,
+                              Registration       registration)
+    {
+      if (registry().count(name) != 0)
+        throw Error("Effect '" + name + "' is registered twice.");
+      registry()[name] = std::move(registration);
+      return true;
+    }
+
+    std::vector<std::string>
+    registered_names()
+    {
+      std::vector<std::string> names;
+      for (const auto &entry : registry())
+        names.push_back(entry.first);
+      return names;
+    }
+
+    void
+    declare_parameters(ParameterHandler &prm)
+    {
+      std::string names;
+      for (const std::string &name : registered_names())
+        names += (names.empty() ? "" : ", ") + name;
+
+      prm.enter_subsection("Effects");
+      prm.declare_entry("Effects",
+                        "",
+                        Patterns::List(Patterns::Anything(), 0),
+                        "The effects the scene calls for beyond homogeneous "
+                        "tissue moved by its bones; none by default, and a "
+                        "scene pays only for those it names. Available: " +
+                          names + ".");
+      for (const auto &[name, registration] : registry())
+        {
+          prm.enter_subsection(name);
+          registration.declare_parameters(prm);
+          prm.leave_subsection();
+        }
+      prm.leave_subsection();
+    }
+
+    std::vector<std::string>
+    selected_names(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Effects");
+      const auto names = Utilities::split_string_list(prm.get("Effects"));
+      prm.leave_subsection();
+      for (unsigned int i = 0; i < names.size(); ++i)
+        {
+          if (registry().count(names[i]) == 0)
+            throw Error("Effects/Effects: '" + names[i] +
+                        "' is not an effect ('softface --help' lists them).");
+          if (std::find(names.begin(), names.begin() + i, names[i]) !=
+              names.begin() + i)
+            throw Error("Effects/Effects: '" + names[i] + "' is listed twice.");
+        }
+      return names;
+    }
+
+    std::unique_ptr<Interface>
+    create(const std::string &name, ParameterHandler &prm)
+    {
+      const auto entry = registry().find(name);
+      if (entry == registry().end())
+        throw Error("Unknown effect '" + name + "'.");
+      auto effect = entry->second.factory();
+      prm.enter_subsection("Effects");
+      prm.enter_subsection(name);
+      try
+        {
+          effect->parse_parameters(prm);
+        }
+      catch (const Error &e)
+        {
+          prm.leave_subsection();
+          prm.leave_subsection();
+          throw Error("Effects/" + name + "/" + e.what());
+        }
+      prm.leave_subsection();
+      prm.leave_subsection();
+      return effect;
+    }
+
+    void
+    check_supported(const std::string &model,
+                    const unsigned int honoured,
+                    const std::string &effect_name,
+                    const Interface   &effect)
+    {
+      const unsigned int missing = effect.contributions() & ~honoured;
+      if (missing != 0)
+        throw Error("Model '" + model + "' cannot simulate the effect '" +
+                    effect_name + "': it does not honour " +
+                    contribution_names(missing) +
+                    ". Remove the effect from Effects/Effects or the model "
+                    "from Models/Models.");
+    }
+
+    std::map<types::material_id, double>
+    parse_material_values(const std::string &entry, const std::string &text)
+    {
+      std::map<types::material_id, double> values;
+      for (const std::string &pair : Utilities::split_string_list(text))
+        {
+          const auto parts = Utilities::split_string_list(pair, ':');
+          // Strict: the whole text of each part must be the number.
+          long   id    = -1;
+          double value = std::nan("");
+          if (parts.size() == 2 && !parts[0].empty() && !parts[1].empty())
+            {
+              char *end = nullptr;
+              id        = std::strtol(parts[0].c_str(), &end, 10);
+              if (*end != '\0')
+                id = -1;
+              value = std::strtod(parts[1].c_str(), &end);
+              if (*end != '\0')
+                value = std::nan("");
+            }
+          if (parts.size() != 2 || id < 0 || id > 255 || !std::isfinite(value))
+            throw Error(entry + ": '" + pair +
+                        "' is not 'material id: value' (ids 0 to 255, "
+                        "finite values).");
+          if (values.count(id) != 0)
+            throw Error(entry + ": material id " + std::to_string(id) +
+                        " is listed twice.");
+          values[id] = value;
+        }
+      return values;
+    }
+
+    std::string
+    describe_registered()
+    {
+      std::string text;
+      for (const auto &[name, registration] : registry())
+        text += "  " + name + ": " + registration.description + "\n";
+      return text;
+    }
+  } // namespace Effects
+} // namespace softface
