@@ -4,7 +4,8 @@
 // sagging by rho g L^2 / (2 E) (10.46 mm for water's density and 3 kPa).
 // It is quadratic, so P1 elements approach it at second order in the mesh
 // size (the largest pointwise error does so from below). The converged mass
-// tensor model solves the same equations as linear FEM; the nonlinear FEM
+// tensor model solves the same equations as linear FEM; quadratic elements
+// (the reference model with the linear law) hold it exactly; the nonlinear FEM
 // must approach linear FEM as the load goes to zero (its difference falling
 // with the load); the mass spring model sags the right way by about the
 // right amount. Without the effect nothing moves.
@@ -14,6 +15,7 @@
 #include <softface/models/mass_spring.h>
 #include <softface/models/mass_tensor.h>
 #include <softface/models/nonlinear_fem.h>
+#include <softface/models/reference_fem.h>
 
 #include "effects.h"
 #include "tests.h"
@@ -120,6 +122,20 @@ SOFTFACE_TEST(effects_hanging_column)
                                  std::log(h(scene) / h(fine_scene)),
                                1.4,
                                2.3);
+
+  // Quadratic elements hold the quadratic closed form: the body force
+  // integrated on the reference's own layout.
+  {
+    Models::ReferenceFEM reference;
+    reference.set_options("linear", "direct");
+    reference.set_degree(2);
+    reference.setup(scene);
+    reference.solve(no_motion, u);
+    softface_tests::check_below(
+      "on: reference fem (P2, linear law), relative error",
+      relative_error(scene, u, g),
+      1e-9);
+  }
 
   // The mass tensor model's converged answer is linear FEM's.
   {

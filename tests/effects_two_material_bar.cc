@@ -13,6 +13,7 @@
 #include <softface/models/mass_spring.h>
 #include <softface/models/mass_tensor.h>
 #include <softface/models/nonlinear_fem.h>
+#include <softface/models/reference_fem.h>
 
 #include "effects.h"
 #include "tests.h"
@@ -136,6 +137,19 @@ SOFTFACE_TEST(effects_two_material_bar)
   softface_tests::check_below("on: mass tensor, max error (mm)",
                               max_error(scene, solve_mtm(), exact),
                               1e-6);
+  {
+    // The quadratic reference with the linear law, tissues by quadrature.
+    Models::ReferenceFEM reference;
+    reference.set_options("linear", "direct");
+    reference.set_degree(2);
+    reference.setup(scene);
+    Vector<double> u;
+    reference.solve(prescribed, u);
+    softface_tests::check_below(
+      "on: reference fem (P2, linear law), max error (mm)",
+      max_error(scene, u, exact),
+      1e-9);
+  }
 
   // A pull of a tenth of a per cent: the large-deformation laws differ from
   // the linear one by about the strain.

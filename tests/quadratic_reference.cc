@@ -49,7 +49,8 @@ SOFTFACE_TEST(quadratic_reference)
       Vector<double> f_closed, f_quadrature;
       model.evaluate(u, f_closed, &closed);
       Elasticity::assemble(MaterialLaw::from_name(law),
-                           scene.material.lame(),
+                           {scene.material.lame()},
+                           {},
                            scene.mapping,
                            scene.dof_handler,
                            QGaussSimplex<3>(1),

@@ -89,6 +89,8 @@ namespace softface
       {
         Vector<double> &force = scene.effects.body_force;
         force.reinit(scene.dof_handler.n_dofs());
+        auto &per_volume = scene.effects.cell_body_force;
+        per_volume.assign(scene.triangulation.n_active_cells(), Tensor<1, 3>());
         double mass = 0.;
         for (const auto &cell : scene.triangulation.active_cell_iterators())
           {
@@ -101,6 +103,8 @@ namespace softface
               rho * 1e-9 *
               Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
             mass += cell_mass;
+            // N per mm^3, for models on layouts of their own.
+            per_volume[cell->active_cell_index()] = rho * 1e-9 * gravity;
             for (unsigned int a = 0; a < 4; ++a)
               for (unsigned int i = 0; i < 3; ++i)
                 force[scene.vertex_dofs()[cell->vertex_index(a)][i]] +=

@@ -20,10 +20,10 @@ namespace softface
     {
       // Function-local so that registrations from static initialisers in
       // any translation unit find it constructed.
-      std::map<std::string, internal::Registration> &
+      PluginRegistry<Interface> &
       registry()
       {
-        static std::map<std::string, internal::Registration> effects;
+        static PluginRegistry<Interface> effects("effect", "an", "Effects");
         return effects;
       }
 
@@ -50,28 +50,18 @@ namespace softface
     internal::register_effect(const std::string &name,
                               Registration       registration)
     {
-      if (registry().count(name) != 0)
-        throw Error("Effect '" + name + "' is registered twice.");
-      registry()[name] = std::move(registration);
-      return true;
+      return registry().add(name, std::move(registration));
     }
 
     std::vector<std::string>
     registered_names()
     {
-      std::vector<std::string> names;
-      for (const auto &entry : registry())
-        names.push_back(entry.first);
-      return names;
+      return registry().names();
     }
 
     void
     declare_parameters(ParameterHandler &prm)
     {
-      std::string names;
-      for (const std::string &name : registered_names())
-        names += (names.empty() ? "" : ", ") + name;
-
       prm.enter_subsection("Effects");
       prm.declare_entry("Effects",
                         "",
@@ -79,56 +69,28 @@ namespace softface
                         "The effects the scene calls for beyond homogeneous "
                         "tissue moved by its bones; none by default, and a "
                         "scene pays only for those it names. Available: " +
-                          names + ".");
-      for (const auto &[name, registration] : registry())
-        {
-          prm.enter_subsection(name);
-          registration.declare_parameters(prm);
-          prm.leave_subsection();
-        }
+                          registry().joined_names() + ".");
+      registry().declare_subsections(prm);
       prm.leave_subsection();
     }
 
     std::vector<std::string>
     selected_names(ParameterHandler &prm)
     {
-      prm.enter_subsection("Effects");
-      const auto names = Utilities::split_string_list(prm.get("Effects"));
-      prm.leave_subsection();
-      for (unsigned int i = 0; i < names.size(); ++i)
-        {
-          if (registry().count(names[i]) == 0)
-            throw Error("Effects/Effects: '" + names[i] +
-                        "' is not an effect ('softface --help' lists them).");
-          if (std::find(names.begin(), names.begin() + i, names[i]) !=
-              names.begin() + i)
-            throw Error("Effects/Effects: '" + names[i] + "' is listed twice.");
-        }
-      return names;
+      return registry().selected(prm);
     }
 
     std::unique_ptr<Interface>
     create(const std::string &name, ParameterHandler &prm)
     {
-      const auto entry = registry().find(name);
-      if (entry == registry().end())
-        throw Error("Unknown effect '" + name + "'.");
-      auto effect = entry->second.factory();
-      prm.enter_subsection("Effects");
-      prm.enter_subsection(name);
       try
         {
-          effect->parse_parameters(prm);
+          return registry().create(name, prm);
         }
       catch (const Error &e)
         {
-          prm.leave_subsection();
-          prm.leave_subsection();
           throw Error("Effects/" + name + "/" + e.what());
         }
-      prm.leave_subsection();
-      prm.leave_subsection();
-      return effect;
     }
 
     void
@@ -181,10 +143,7 @@ namespace softface
     std::string
     describe_registered()
     {
-      std::string text;
-      for (const auto &[name, registration] : registry())
-        text += "  " + name + ": " + registration.description + "\n";
-      return text;
+      return registry().describe();
     }
   } // namespace Effects
 } // namespace softface

@@ -123,16 +123,46 @@ namespace softface
           stiffness);
     }
 
+    void
+    assemble_body_force(const Mapping<3>                &mapping,
+                        const DoFHandler<3>             &dof_handler,
+                        const Quadrature<3>             &quadrature,
+                        const std::vector<Tensor<1, 3>> &cell_body_force,
+                        Vector<double>                  &forces)
+    {
+      const FiniteElement<3>              &fe = dof_handler.get_fe();
+      FEValues<3>                          fe_values(mapping,
+                            fe,
+                            quadrature,
+                            update_values | update_JxW_values);
+      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
+      forces.reinit(dof_handler.n_dofs());
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          fe_values.reinit(cell);
+          cell->get_dof_indices(dofs);
+          const Tensor<1, 3> &b = cell_body_force[cell->active_cell_index()];
+          for (unsigned int i = 0; i < dofs.size(); ++i)
+            {
+              const unsigned int c = fe.system_to_component_index(i).first;
+              for (unsigned int q = 0; q < quadrature.size(); ++q)
+                forces[dofs[i]] +=
+                  b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
+            }
+        }
+    }
+
     bool
-    assemble(const MaterialLaw::Law   law,
-             const Lame              &lame,
-             const Mapping<3>        &mapping,
-             const DoFHandler<3>     &dof_handler,
-             const Quadrature<3>     &quadrature,
-             const Vector<double>    &u,
-             Vector<double>          &forces,
-             SparseMatrix<double>    *tangent,
-             const std::vector<bool> *may_skip_cell)
+    assemble(const MaterialLaw::Law            law,
+             const std::vector<Lame>          &tissue_lame,
+             const std::vector<unsigned char> &tissue_of_cell,
+             const Mapping<3>                 &mapping,
+             const DoFHandler<3>              &dof_handler,
+             const Quadrature<3>              &quadrature,
+             const Vector<double>             &u,
+             Vector<double>                   &forces,
+             SparseMatrix<double>             *tangent,
+             const std::vector<bool>          *may_skip_cell)
     {
       const FiniteElement<3>              &fe = dof_handler.get_fe();
       FEValues<3>                          fe_values(mapping,
@@ -163,6 +193,10 @@ namespace softface
         {
           fe_values.reinit(cell);
           cell->get_dof_indices(dofs);
+          const Lame &lame =
+            tissue_lame[tissue_of_cell.empty() ?
+                          0 :
+                          tissue_of_cell[cell->active_cell_index()]];
           for (unsigned int i = 0; i < n; ++i)
             u_cell[i] = u[dofs[i]];
           f_cell       = 0;

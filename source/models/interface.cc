@@ -23,10 +23,10 @@ namespace softface
     {
       // Function-local so that registrations from static initialisers in
       // any translation unit find it constructed.
-      std::map<std::string, internal::Registration> &
+      PluginRegistry<Interface> &
       registry()
       {
-        static std::map<std::string, internal::Registration> models;
+        static PluginRegistry<Interface> models("model", "a", "Models");
         return models;
       }
     } // namespace
@@ -226,88 +226,45 @@ namespace softface
     bool
     internal::register_model(const std::string &name, Registration registration)
     {
-      // A second registration under one name would silently replace the
-      // first; it is a programming error, reported in every build.
-      if (registry().count(name) != 0)
-        throw Error("Model '" + name + "' is registered twice.");
-      registry()[name] = std::move(registration);
-      return true;
+      return registry().add(name, std::move(registration));
     }
 
     std::vector<std::string>
     registered_names()
     {
-      std::vector<std::string> names;
-      for (const auto &entry : registry())
-        names.push_back(entry.first);
-      return names;
+      return registry().names();
     }
 
     void
     declare_parameters(ParameterHandler &prm)
     {
-      std::string names;
-      for (const std::string &name : registered_names())
-        names += (names.empty() ? "" : ", ") + name;
-
       prm.enter_subsection("Models");
-      // Names are checked by selected_names(), whose message does not list
-      // every model (softface --help does).
       prm.declare_entry("Models",
                         "linear fem",
                         Patterns::List(Patterns::Anything(), 1),
                         "The soft-tissue models to run on the scene, side by "
                         "side on the same mesh and join points. Available: " +
-                          names + ".");
-      for (const auto &[name, registration] : registry())
-        {
-          prm.enter_subsection(name);
-          registration.declare_parameters(prm);
-          prm.leave_subsection();
-        }
+                          registry().joined_names() + ".");
+      registry().declare_subsections(prm);
       prm.leave_subsection();
     }
 
     std::vector<std::string>
     selected_names(ParameterHandler &prm)
     {
-      prm.enter_subsection("Models");
-      const auto names = Utilities::split_string_list(prm.get("Models"));
-      prm.leave_subsection();
-      for (unsigned int i = 0; i < names.size(); ++i)
-        {
-          if (registry().count(names[i]) == 0)
-            throw Error("Models/Models: '" + names[i] +
-                        "' is not a model ('softface --help' lists them).");
-          if (std::find(names.begin(), names.begin() + i, names[i]) !=
-              names.begin() + i)
-            throw Error("Models/Models: '" + names[i] + "' is listed twice.");
-        }
-      return names;
+      return registry().selected(prm);
     }
 
     std::unique_ptr<Interface>
     create(const std::string &name, ParameterHandler &prm)
     {
-      const auto entry = registry().find(name);
-      if (entry == registry().end())
-        throw Error("Unknown model '" + name + "'.");
-      auto model = entry->second.factory();
-      prm.enter_subsection("Models");
-      prm.enter_subsection(name);
-      model->parse_parameters(prm);
-      prm.leave_subsection();
-      prm.leave_subsection();
-      return model;
+      return registry().create(name, prm);
     }
 
     std::string
     describe_registered()
     {
-      std::string text;
-      for (const auto &[name, registration] : registry())
-        text += "  " + name + ": " + registration.description + "\n";
-      return text;
+      return registry().describe();
     }
   } // namespace Models
 } // namespace softface

@@ -40,6 +40,12 @@ namespace softface
       degree = prm.get_integer("Polynomial degree");
     }
 
+    unsigned int
+    ReferenceFEM::honoured_effects() const
+    {
+      return SceneEffects::cell_materials | SceneEffects::body_forces;
+    }
+
     void
     ReferenceFEM::set_degree(const unsigned int d)
     {
@@ -124,6 +130,21 @@ namespace softface
       DoFTools::make_sparsity_pattern(*dof_handler, dsp);
       sparsity.copy_from(dsp);
       add_detail("degree", degree);
+
+      // The effects: each tissue's Lame coefficients, and the body force
+      // integrated against this layout's shape functions.
+      tissue_lame.clear();
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        tissue_lame.push_back(scene->tissue(t).lame());
+      if (scene->has_body_force())
+        {
+          Elasticity::assemble_body_force(scene->mapping,
+                                          *dof_handler,
+                                          QGaussSimplex<3>(3),
+                                          scene->effects.cell_body_force,
+                                          layout_body_force);
+          body_force = &layout_body_force;
+        }
     }
 
     bool
@@ -134,7 +155,8 @@ namespace softface
       // A 3-point-per-direction rule: exact for the quadratic element's
       // linear stiffness and accurate for its nonlinear terms.
       return Elasticity::assemble(law,
-                                  scene->material.lame(),
+                                  tissue_lame,
+                                  scene->effects.tissue_of_cell,
                                   scene->mapping,
                                   *dof_handler,
                                   QGaussSimplex<3>(3),

@@ -60,6 +60,9 @@ namespace softface
     /// Nodal loads in N on the shared layout (the consistent P1 loads of a
     /// body force), added to every model's equilibrium.
     Vector<double> body_force;
+    /// The same body force per unit volume (N/mm^3) of every cell (active
+    /// cell index), for a model on a layout of its own to integrate.
+    std::vector<Tensor<1, 3>> cell_body_force;
   };
 
   /**

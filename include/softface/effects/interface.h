@@ -3,6 +3,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <softface/core/plugin_registry.h>
 #include <softface/core/scene.h>
 
 #include <functional>
@@ -94,12 +95,7 @@ namespace softface
 
     namespace internal
     {
-      struct Registration
-      {
-        std::string                                 description;
-        std::function<void(ParameterHandler &)>     declare_parameters;
-        std::function<std::unique_ptr<Interface>()> factory;
-      };
+      using Registration = PluginRegistry<Interface>::Registration;
 
       /// Throws if @p name is registered already.
       bool

@@ -82,23 +82,38 @@ namespace softface
     assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness);
 
     /**
+     * The nodal loads of a body force given per unit volume in each cell
+     * (by active cell index), integrated against the shape functions of
+     * @p dof_handler's element.
+     */
+    void
+    assemble_body_force(const Mapping<3>                &mapping,
+                        const DoFHandler<3>             &dof_handler,
+                        const Quadrature<3>             &quadrature,
+                        const std::vector<Tensor<1, 3>> &cell_body_force,
+                        Vector<double>                  &forces);
+
+    /**
      * Nodal forces (and, if @p tangent is not null, the tangent, assembled
      * from zero) of the displacement @p u on any vector-valued element of
-     * @p dof_handler, by quadrature. Returns false if the law refuses F at a
+     * @p dof_handler, by quadrature, each cell with the Lame coefficients
+     * tissue_lame[tissue_of_cell[c]] (tissue_lame[0] everywhere if
+     * @p tissue_of_cell is empty). Returns false if the law refuses F at a
      * quadrature point, unless @p may_skip_cell marks the cell (by active
      * cell index): such a cell is then left out (a cell of prescribed DoFs
      * only, crushed by the planning).
      */
     bool
-    assemble(const MaterialLaw::Law   law,
-             const Lame              &lame,
-             const Mapping<3>        &mapping,
-             const DoFHandler<3>     &dof_handler,
-             const Quadrature<3>     &quadrature,
-             const Vector<double>    &u,
-             Vector<double>          &forces,
-             SparseMatrix<double>    *tangent,
-             const std::vector<bool> *may_skip_cell = nullptr);
+    assemble(const MaterialLaw::Law            law,
+             const std::vector<Lame>          &tissue_lame,
+             const std::vector<unsigned char> &tissue_of_cell,
+             const Mapping<3>                 &mapping,
+             const DoFHandler<3>              &dof_handler,
+             const Quadrature<3>              &quadrature,
+             const Vector<double>             &u,
+             Vector<double>                   &forces,
+             SparseMatrix<double>             *tangent,
+             const std::vector<bool>          *may_skip_cell = nullptr);
   } // namespace Elasticity
 } // namespace softface
 

@@ -41,6 +41,10 @@ namespace softface
       parse_parameters(ParameterHandler &prm) override;
 
       /// The polynomial degree in code (tests).
+      /// Tissues per cell and body forces.
+      unsigned int
+      honoured_effects() const override;
+
       void
       set_degree(const unsigned int degree);
 
@@ -77,6 +81,8 @@ namespace softface
       Vector<double>                       solution;
       /// Cells all of whose DoFs are join DoFs (see NonlinearFEM).
       std::vector<bool> all_join_cell;
+      std::vector<Lame> tissue_lame;
+      Vector<double>    layout_body_force;
     };
   } // namespace Models
 } // namespace softface
