@@ -76,6 +76,18 @@ namespace softface
             throw Error("Densities: material id " + std::to_string(id) +
                         " has a density of " + Utilities::to_string(rho) +
                         " kg/m^3; a density must be >= 0.");
+        // Far beyond any tissue (osmium: 22,590 kg/m^3) or any posture
+        // (100 g): a typo in units that would overflow the solvers.
+        const auto too_dense = [](const double rho) { return rho > 1e5; };
+        bool       dense     = too_dense(density);
+        for (const auto &entry : densities)
+          dense |= too_dense(entry.second);
+        if (dense)
+          throw Error("Density/Densities: a density above 100000 kg/m^3 is "
+                      "not a tissue's (densities are in kg/m^3).");
+        if (gravity.norm() > 1000.)
+          throw Error("Gravity: |g| = " + Utilities::to_string(gravity.norm()) +
+                      " m/s^2 is over 100 g (gravity is in m/s^2).");
       }
 
       unsigned int

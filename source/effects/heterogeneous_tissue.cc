@@ -63,10 +63,23 @@ namespace softface
                         " has a modulus of " + Utilities::to_string(E) +
                         " Pa; it must be positive.");
         for (const auto &[id, nu] : poissons_ratios)
-          if (!(nu >= 0. && nu < 0.5))
-            throw Error("Poisson's ratios: material id " + std::to_string(id) +
-                        " has a ratio of " + Utilities::to_string(nu) +
-                        "; it must lie in [0, 0.5).");
+          {
+            if (!(nu >= 0. && nu < 0.5))
+              throw Error("Poisson's ratios: material id " +
+                          std::to_string(id) + " has a ratio of " +
+                          Utilities::to_string(nu) +
+                          "; it must lie in [0, 0.5).");
+            // A ratio without a modulus would be silently ignored.
+            if (youngs_moduli.count(id) == 0)
+              throw Error("Poisson's ratios: material id " +
+                          std::to_string(id) +
+                          " has no Young's modulus in 'Young's moduli'.");
+          }
+        // Tissue 0 is Material's (bone cells): 255 listed tissues at most.
+        if (youngs_moduli.size() > 255)
+          throw Error("Young's moduli: at most 255 material ids can be "
+                      "listed (got " +
+                      std::to_string(youngs_moduli.size()) + ").");
       }
 
       unsigned int
@@ -94,7 +107,6 @@ namespace softface
             index[id] = tissues.size();
             tissues.push_back(tissue);
           }
-        AssertThrow(tissues.size() < 256, ExcInternalError());
 
         std::vector<unsigned char>             tissue_of_cell;
         std::map<types::material_id, unsigned> n_cells;

@@ -23,6 +23,7 @@
 #include <softface/simulator/simulator.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -280,6 +281,14 @@ namespace softface
             out << tag << "setup " << model->statistics().setup_time << " s"
                 << std::endl;
             model->solve(prescribed, run.displacement);
+            // Overflowing inputs (moduli or loads far out of range) or a
+            // solve that broke down must not pass as an answer.
+            for (const double value : run.displacement)
+              if (!std::isfinite(value))
+                throw Error(name +
+                            ": the displacement is not finite (NaN or "
+                            "infinite): the solve broke down or the inputs "
+                            "(moduli, loads) are far out of range.");
             run.statistics = model->statistics();
             run.max_displacement =
               Displacement::max_norm(scene, run.displacement);
