@@ -20,8 +20,18 @@ namespace softface_tests
 {
   using namespace softface;
 
+  /// The vector (x, y, z).
+  inline Tensor<1, 3>
+  vec(const double x, const double y, const double z)
+  {
+    Tensor<1, 3> v;
+    v[0] = x, v[1] = y, v[2] = z;
+    return v;
+  }
+
   /// Create the effect @p name with @p values set in its subsection and
-  /// apply it to @p scene.
+  /// apply it to @p scene (set up), as the simulator does: an effect that
+  /// changes the mesh does so first, and the scene is set up again.
   inline void
   apply_effect(Scene                                                  &scene,
                const std::string                                      &name,
@@ -35,7 +45,10 @@ namespace softface_tests
       prm.set(entry, value);
     prm.leave_subsection();
     prm.leave_subsection();
-    Effects::create(name, prm)->apply(scene);
+    const auto effect = Effects::create(name, prm);
+    if (!effect->prepare_mesh(scene).empty())
+      scene.setup();
+    effect->apply(scene);
     scene.effects.names.push_back(name);
   }
 

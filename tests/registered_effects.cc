@@ -36,6 +36,15 @@ SOFTFACE_TEST(registered_effects)
   ParameterHandler prm;
   Models::declare_parameters(prm);
   Effects::declare_parameters(prm);
+  // The entries without a usable default.
+  prm.enter_subsection("Effects");
+  prm.enter_subsection("sliding contact");
+  prm.set("Segment", "bone");
+  prm.leave_subsection();
+  prm.enter_subsection("separated lips");
+  prm.set("Slit point", "0, 0, 0");
+  prm.leave_subsection();
+  prm.leave_subsection();
   for (const auto &effect_name : Effects::registered_names())
     {
       const auto effect = Effects::create(effect_name, prm);

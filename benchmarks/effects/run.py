@@ -37,14 +37,27 @@ SCENES = {
 end
 """,
         "tissue": "1: 3000, 3: 12000",
+        # The cube's base slides on its support; a slit in the mid-plane
+        # from the face x = 0 to x = 30, short of the bone.
+        "contact": "set Segment = fixed\n    set Region = -1, 81, -1, 81, -1, 1",
+        "lips": "set Slit point = 40, 40, 40\n    set Region = -1, 30, -1, 81, 39, 41",
     },
     "patient": {
         "prm": "prm/patient.prm",
         "heterogeneous": "",
         "tissue": "1: 15000, 2: 3000, 3: 6000",
+        # The upper lip slides on the front of the maxilla (its contact
+        # faces in front of y = -60); the mouth slit at the occlusal plane
+        # z = -22 (between the maxilla, down to z = -20, and the mandible,
+        # up to z = -24, at x = 0), from the skin back to y = -66, in front
+        # of the teeth.
+        "contact": "set Segment = maxilla\n    set Region = -25, 25, -80, -60, -20, 0",
+        "lips": "set Slit point = 0, -80, -22\n    set Region = -25, 25, -110, -66, -26, -18",
     },
 }
-CONFIGS = ["none", "heterogeneous tissue", "gravity", "both"]
+CONFIGS = ["none", "heterogeneous tissue", "gravity", "sliding contact",
+           "separated lips", "all four"]
+ALL_FOUR = ["heterogeneous tissue", "gravity", "sliding contact", "separated lips"]
 
 
 def file_name(model):
@@ -71,9 +84,8 @@ end
   end
 end
 """
-    effects = {"none": [], "heterogeneous tissue": ["heterogeneous tissue"],
-               "gravity": ["gravity"],
-               "both": ["heterogeneous tissue", "gravity"]}[config]
+    effects = ALL_FOUR if config == "all four" else \
+        ([] if config == "none" else [config])
     if "heterogeneous tissue" in effects:
         text += spec["heterogeneous"]
     if effects:
@@ -85,6 +97,12 @@ end
   subsection gravity
     set Gravity = 0, 0, -9.81
     set Density = 1000
+  end
+  subsection sliding contact
+    {spec["contact"]}
+  end
+  subsection separated lips
+    {spec["lips"]}
   end
 end
 """
@@ -159,7 +177,10 @@ def differences(rows, scene, config, model, points):
     if on is None or off is None:
         return None
     x, u_on = displacements(on, model)
-    _, u_off = displacements(off, model)
+    x_off, u_off = displacements(off, model)
+    # A slit's copies of vertices come after the mesh's own ones.
+    x, u_on = x[:len(x_off)], u_on[:len(x_off)]
+    assert np.allclose(x, x_off), "vertex order changed"
     d = np.linalg.norm(u_on - u_off, axis=1)
     if points is None:
         # The cube: its free vertices, off the held outer faces and outside
@@ -242,7 +263,12 @@ def report(rows, scenes, arguments, baseline_name):
           "Cube: `prm/default.prm` (35k tetrahedra, inner cube lifted 6 mm), a second "
           "tissue of 12 kPa above the mid-plane (3 kPa below). Patient: `prm/patient.prm` "
           "(the phantom, six bone segments moved), tissues 15/3/6 kPa (skin/fat/muscle). "
-          "Gravity: 9.81 m/s^2 along -z (upright), 1000 kg/m^3.",
+          "Gravity: 9.81 m/s^2 along -z (upright), 1000 kg/m^3. Sliding contact "
+          "(bilateral): cube, its base (z = 0) slides on the fixed support; patient, "
+          "the upper lip on the front of the maxilla (contact faces in x -25..25, "
+          "y -80..-60, z -20..0). Separated lips: cube, a slit in the mid-plane from "
+          "x = 0 to x = 30; patient, the mouth slit at z = -22 from the skin back to "
+          "y = -66, x -25..25. 'all four': every effect at once.",
           ""]
     for scene in scenes:
         points = skin_points(scene)

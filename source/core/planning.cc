@@ -119,14 +119,14 @@ namespace softface
           }
         else
           {
-            unsigned int n = 0;
-            for (unsigned int v = 0; v < scene.vertex_segment().size(); ++v)
-              if (scene.vertex_segment()[v] == segment)
-                {
-                  centre += scene.triangulation.get_vertices()[v];
-                  ++n;
-                }
-            centre /= n;
+            // The mean of the segment's join points as the scene first
+            // found them (before an effect freed some).
+            const auto &c = scene.segments[segment].join_centroid;
+            if (c.size() != 3)
+              throw Error("Planning/Motion " + name +
+                          ": the segment has no join point to take the "
+                          "'Rotation centre' from; give one.");
+            centre = Point<3>(c[0], c[1], c[2]);
           }
         try
           {
@@ -167,6 +167,18 @@ namespace softface
         const Tensor<1, 3> d = motion->second.displacement(vertices[v]);
         for (unsigned int c = 0; c < 3; ++c)
           u[scene.vertex_dofs()[v][c]] = d[c];
+      }
+    // A vertex sliding on a bone surface: the bone's displacement there,
+    // which places the surface (SceneEffects::free_vertex_constraints).
+    for (const auto &constraint : scene.effects.vertex_constraints)
+      {
+        const auto motion = motion_of_segment.find(constraint.segment);
+        if (motion == motion_of_segment.end())
+          continue;
+        const Tensor<1, 3> d =
+          motion->second.displacement(vertices[constraint.vertex]);
+        for (unsigned int c = 0; c < 3; ++c)
+          u[scene.vertex_dofs()[constraint.vertex][c]] = d[c];
       }
     return u;
   }

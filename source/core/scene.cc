@@ -295,7 +295,7 @@ namespace softface
         ++n_joins_of_segment[c.begin()->first];
       }
     for (unsigned int s = 0; s < segments.size(); ++s)
-      if (n_joins_of_segment[s] == 0)
+      if (n_joins_of_segment[s] == 0 && !segments[s].carries_contact_only)
         {
           std::ostringstream m;
           m << "Scene: bone segment '" << segments[s].name
@@ -308,6 +308,17 @@ namespace softface
             m << ' ' << static_cast<unsigned int>(id);
           m << " }).";
           throw Error(m.str());
+        }
+
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      if (segments[s].join_centroid.empty() && n_joins_of_segment[s] > 0)
+        {
+          Point<3> centre;
+          for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+            if (segment_of_vertex[v] == s)
+              centre += triangulation.get_vertices()[v];
+          centre /= n_joins_of_segment[s];
+          segments[s].join_centroid = {centre[0], centre[1], centre[2]};
         }
 
     is_join_dof.assign(dof_handler.n_dofs(), false);

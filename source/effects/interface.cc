@@ -38,6 +38,8 @@ namespace softface
           add("tissues per cell");
         if (flags & SceneEffects::body_forces)
           add("body forces");
+        if (flags & SceneEffects::free_vertex_constraints)
+          add("constraints on free vertices");
         return names;
       }
     } // namespace
@@ -45,6 +47,55 @@ namespace softface
     void
     Interface::parse_parameters(ParameterHandler &)
     {}
+
+    Region
+    parse_region(const std::string &entry, const std::string &text)
+    {
+      Region region;
+      if (Utilities::trim(text).empty())
+        return region;
+      const auto          parts = Utilities::split_string_list(text);
+      std::vector<double> values;
+      for (const std::string &part : parts)
+        {
+          char        *end   = nullptr;
+          const double value = std::strtod(part.c_str(), &end);
+          if (part.empty() || *end != '\0' || !std::isfinite(value))
+            {
+              values.clear();
+              break;
+            }
+          values.push_back(value);
+        }
+      if (values.size() != 6 || values[0] > values[1] ||
+          values[2] > values[3] || values[4] > values[5])
+        throw Error(entry + ": '" + text +
+                    "' is not a box 'x0, x1, y0, y1, z0, z1' with x0 <= x1, "
+                    "y0 <= y1, z0 <= z1 (mm).");
+      region.everywhere = false;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          region.lower[d] = values[2 * d];
+          region.upper[d] = values[2 * d + 1];
+        }
+      return region;
+    }
+
+    void
+    declare_active_set_iterations(ParameterHandler &prm)
+    {
+      prm.declare_entry("Maximum active-set iterations",
+                        "50",
+                        Patterns::Integer(1),
+                        "A FEM solve whose set of vertices in contact still "
+                        "changes after this many solves stops with an error.");
+    }
+
+    std::string
+    Interface::prepare_mesh(Scene &) const
+    {
+      return {};
+    }
 
     bool
     internal::register_effect(const std::string &name,

@@ -9,6 +9,7 @@
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
 #include <softface/fe/constrained_system.h>
+#include <softface/fe/vertex_constraints.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +24,10 @@ namespace softface
     {
       DynamicSparsityPattern dsp(scene.dof_handler.n_dofs());
       DoFTools::make_sparsity_pattern(scene.dof_handler, dsp);
+      // Constraints between the two sides of a slit couple each side's
+      // vertex with the other's neighbours once condensed.
+      if (scene.has_vertex_constraints())
+        VertexConstraintSet(scene).add_fill(dsp);
       sparsity.copy_from(dsp);
     }
 

@@ -93,9 +93,16 @@ namespace softface
   {
     const unsigned int n = u.size();
     StepResult         result;
-    const auto         free_norm = [&](const Vector<double> &v) {
-      return ConstrainedSystem::free_norm(is_join, v);
+    // What the holding constraints take up is not unbalanced.
+    Vector<double> condensed;
+    const auto     free_norm = [&](const Vector<double> &v) {
+      if (constraints == nullptr)
+        return ConstrainedSystem::free_norm(is_join, v);
+      condensed = v;
+      constraints->condense(condensed);
+      return ConstrainedSystem::free_norm(is_join, condensed);
     };
+    Vector<double> closing;
 
     // The first iteration carries the join DoFs to the step's target.
     Vector<double> join_increment(n);
@@ -136,6 +143,16 @@ namespace softface
           ConstrainedSystem::right_hand_side(
             tangent, is_join, join_increment, &forces, rhs);
           ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+          if (constraints != nullptr)
+            {
+              // du = closing + C x: C^T K C x = C^T (rhs - K closing).
+              constraints->closing_increment(u, *bone, load, closing);
+              Vector<double> K_closing(n);
+              tangent.vmult(K_closing, closing);
+              rhs -= K_closing;
+              constraints->condense(tangent);
+              constraints->condense(rhs);
+            }
         }
         if (first)
           {
@@ -178,6 +195,11 @@ namespace softface
         if (!solve.converged)
           return result;
         ++result.iterations;
+        if (constraints != nullptr)
+          {
+            constraints->lines().distribute(du);
+            du += closing;
+          }
         for (unsigned int i = 0; i < n; ++i)
           if (is_join[i])
             du[i] = join_increment[i];
@@ -235,6 +257,17 @@ namespace softface
     return result;
   }
 
+  void
+  LoadSteppedNewton::set_vertex_constraints(
+    VertexConstraintSet  *set,
+    const Vector<double> *bone_motion,
+    const unsigned int    max_active_set_rounds)
+  {
+    constraints = set;
+    bone        = bone_motion;
+    max_rounds  = max_active_set_rounds;
+  }
+
   LoadSteppedNewton::Report
   LoadSteppedNewton::solve(const Vector<double> &join_motion,
                            Vector<double>       &u,
@@ -255,7 +288,31 @@ namespace softface
       {
         const double next = std::min(1., load + increment);
         target.equ(next, join_motion);
-        const StepResult result = step(u, target, next, timer, progress);
+        StepResult result = step(u, target, next, timer, progress);
+        // Unilateral constraints: release those that pull, hold those
+        // passed through, and solve the step again until none changes.
+        for (unsigned int round = 1;
+             result.converged && constraints != nullptr &&
+             constraints->has_unilateral();
+             ++round)
+          {
+            Vector<double> forces(n);
+            unbalanced_forces(u, next, forces, nullptr);
+            if (constraints->update_active_set(u, *bone, forces, next) == 0)
+              break;
+            if (round == max_rounds)
+              {
+                result.converged = false;
+                result.reason    = "the contact's active set still changed "
+                                   "after " +
+                                std::to_string(max_rounds) +
+                                " solves ('Maximum active-set iterations')";
+                break;
+              }
+            const unsigned int before = result.iterations;
+            result                    = step(u, target, next, timer, progress);
+            result.iterations += before;
+          }
         if (result.converged)
           {
             load      = next;

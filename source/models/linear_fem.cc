@@ -50,7 +50,8 @@ namespace softface
     unsigned int
     LinearFEM::honoured_effects() const
     {
-      return SceneEffects::cell_materials | SceneEffects::body_forces;
+      return SceneEffects::cell_materials | SceneEffects::body_forces |
+             SceneEffects::free_vertex_constraints;
     }
 
     void
@@ -88,7 +89,18 @@ namespace softface
       const auto timed = phase(
         solver_parameters.method == "direct" ? "factorise" : "preconditioner");
       linear_solver.initialize(solver_parameters, *scene);
-      if (!linear_solver.set_matrix(constrained_stiffness))
+      vertex_constraints.reset();
+      if (scene->has_vertex_constraints())
+        {
+          vertex_constraints = std::make_unique<VertexConstraintSet>(*scene);
+          condensed_for.clear();
+          vertex_constraints->condense_for_holding(constrained_stiffness,
+                                                   condensed_stiffness,
+                                                   condensed_for,
+                                                   linear_solver,
+                                                   "linear fem");
+        }
+      else if (!linear_solver.set_matrix(constrained_stiffness))
         throw Error("linear fem (direct): the Cholesky factorisation failed; "
                     "the stiffness is not positive definite.");
       factorizations += linear_solver.n_factorizations();
@@ -124,10 +136,31 @@ namespace softface
         if (is_join[i])
           displacement[i] = prescribed[i];
       LinearSolver::Result result;
-      {
-        const auto timed = phase("solve");
-        result           = linear_solver.solve(rhs, displacement);
-      }
+      if (vertex_constraints)
+        {
+          const auto timed  = phase("solve");
+          const auto report = vertex_constraints->solve_with_active_set(
+            stiffness,
+            constrained_stiffness,
+            condensed_stiffness,
+            condensed_for,
+            linear_solver,
+            rhs,
+            prescribed,
+            loaded ? &minus_forces : nullptr,
+            scene->effects.active_set_limit(),
+            "linear fem",
+            displacement);
+          result = report.result;
+          add_detail("contact active-set iterations", report.rounds);
+          add_detail("contact constraints holding",
+                     vertex_constraints->n_holding());
+        }
+      else
+        {
+          const auto timed = phase("solve");
+          result           = linear_solver.solve(rhs, displacement);
+        }
       if (!result.converged)
         {
           std::ostringstream m;
@@ -153,6 +186,9 @@ namespace softface
       for (unsigned int i = 0; i < n; ++i)
         if (is_join[i])
           residual[i] = 0.;
+      // What the constraints take up is not a residual.
+      if (vertex_constraints)
+        vertex_constraints->condense(residual);
       set_residual(residual.l2_norm() / std::max(rhs.l2_norm(), 1e-300));
     }
 

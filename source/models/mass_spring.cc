@@ -72,7 +72,8 @@ namespace softface
     unsigned int
     MassSpring::honoured_effects() const
     {
-      return SceneEffects::cell_materials | SceneEffects::body_forces;
+      return SceneEffects::cell_materials | SceneEffects::body_forces |
+             SceneEffects::free_vertex_constraints;
     }
 
     void
@@ -179,6 +180,79 @@ namespace softface
         return F;
       };
 
+      ActiveSet active(n);
+      // Vertex constraints (sliding contact, lips) per point.
+      struct PointConstraint
+      {
+        unsigned int a, b; // b = a without a partner
+        Tensor<1, 3> n;
+        bool         unilateral;
+      };
+      std::vector<PointConstraint> constraints;
+      std::vector<int>             constraint_of_point;
+      if (scene->has_vertex_constraints())
+        {
+          constraint_of_point.assign(n, -1);
+          for (const VertexConstraint &c : scene->effects.vertex_constraints)
+            {
+              const unsigned int a = scene->vertex_dofs()[c.vertex][0] / 3;
+              const unsigned int b =
+                c.partner == numbers::invalid_unsigned_int ?
+                  a :
+                  scene->vertex_dofs()[c.partner][0] / 3;
+              constraint_of_point[a] = constraint_of_point[b] =
+                constraints.size();
+              constraints.push_back(
+                {a, b, c.normal / c.normal.norm(), c.unilateral});
+            }
+        }
+      // The step a point's force asks for: F / sum k, never more than a
+      // fraction of its shortest spring (so no spring flips in one step).
+      const auto free_step = [&](const unsigned int j) {
+        double       shortest;
+        Tensor<1, 3> step = force(j, shortest) / total_stiffness[j];
+        const double size = step.norm();
+        if (size > max_step_fraction * shortest)
+          step *= max_step_fraction * shortest / size;
+        return step;
+      };
+      double fraction = 0.; // of the bone motion applied
+      // Move @p step of point j onto its constraint: a sliding point stays
+      // on the bone surface (orthogonal projection: the springs' stiffness
+      // at a point is isotropic). A pair moves together (a block update of
+      // both points): @p step_other is the partner's step, the two closing
+      // their gap weighted by 1 / sum k if it would open below zero.
+      // Returns the partner, or numbers::invalid_unsigned_int.
+      const auto constrain = [&](const unsigned int j,
+                                 Tensor<1, 3>      &step,
+                                 Tensor<1, 3>      &step_other) {
+        const PointConstraint &c = constraints[constraint_of_point[j]];
+        if (c.a == c.b)
+          {
+            Tensor<1, 3> bone;
+            for (unsigned int d = 0; d < 3; ++d)
+              bone[d] = fraction * prescribed[3 * j + d];
+            const double gap = c.n * (x[j] + step - rest_position[j] - bone);
+            if (!c.unilateral || gap < 0.)
+              step -= gap * c.n;
+            return numbers::invalid_unsigned_int;
+          }
+        const unsigned int other = (j == c.a ? c.b : c.a);
+        step_other               = free_step(other);
+        Tensor<1, 3> &s_a        = (j == c.a ? step : step_other);
+        Tensor<1, 3> &s_b        = (j == c.a ? step_other : step);
+        const double  gap        = c.n * ((x[c.a] + s_a - rest_position[c.a]) -
+                                  (x[c.b] + s_b - rest_position[c.b]));
+        if (!c.unilateral || gap < 0.)
+          {
+            const double lambda =
+              -gap / (1. / total_stiffness[c.a] + 1. / total_stiffness[c.b]);
+            s_a += lambda / total_stiffness[c.a] * c.n;
+            s_b -= lambda / total_stiffness[c.b] * c.n;
+          }
+        return other;
+      };
+
       // Moving the join points all at once can push a bone point past its
       // free neighbours, flipping springs before any free point has moved.
       // The motion is applied in load steps, each shorter than the step
@@ -202,9 +276,28 @@ namespace softface
                   std::min(shortest_at_join,
                            spring_list[spring_of[i]].rest_length);
           }
+      // A bone surface that sliding points follow moves them like join
+      // points.
+      bool surface_moves = false;
+      for (const auto &c : constraints)
+        if (c.a == c.b)
+          {
+            const double motion =
+              std::sqrt(prescribed[3 * c.a] * prescribed[3 * c.a] +
+                        prescribed[3 * c.a + 1] * prescribed[3 * c.a + 1] +
+                        prescribed[3 * c.a + 2] * prescribed[3 * c.a + 2]);
+            if (motion == 0.)
+              continue;
+            surface_moves  = true;
+            largest_motion = std::max(largest_motion, motion);
+            for (unsigned int i = row_start[c.a]; i < row_start[c.a + 1]; ++i)
+              shortest_at_join =
+                std::min(shortest_at_join,
+                         spring_list[spring_of[i]].rest_length);
+          }
       // A load alone (no bone moves) still needs one step.
       const unsigned int n_load_steps =
-        moving_joins.empty() ?
+        moving_joins.empty() && !surface_moves ?
           (load != nullptr ? 1 : 0) :
           std::max(1.,
                    std::ceil(largest_motion /
@@ -221,13 +314,15 @@ namespace softface
             initial += force(j, shortest).norm_square();
           }
 
-      ActiveSet          active(n);
       unsigned long long blocked_updates = 0;
       unsigned int       sweep           = 0;
       unsigned long long point_updates   = 0;
       for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
         {
-          const double fraction = double(load_step) / n_load_steps;
+          fraction = double(load_step) / n_load_steps;
+          // A sliding point follows its bone surface.
+          for (const auto &c : constraints)
+            active.queue(c.a), active.queue(c.b);
           // The load is there from the start: every free point feels it.
           if (load_step == 1 && load != nullptr)
             for (unsigned int j = 0; j < n; ++j)
@@ -277,10 +372,15 @@ namespace softface
                           << std::flush;
               for (const unsigned int j : *current)
                 {
-                  double             shortest;
-                  const Tensor<1, 3> F    = force(j, shortest);
-                  Tensor<1, 3>       step = F / total_stiffness[j];
-                  const double       size = step.norm();
+                  Tensor<1, 3>       step = free_step(j), step_other;
+                  const unsigned int partner =
+                    (!constraint_of_point.empty() &&
+                     constraint_of_point[j] >= 0) ?
+                      constrain(j, step, step_other) :
+                      numbers::invalid_unsigned_int;
+                  const bool paired = partner != numbers::invalid_unsigned_int;
+                  const double size =
+                    std::max(step.norm(), paired ? step_other.norm() : 0.);
                   if (!(size > stop_threshold))
                     {
                       if (!std::isfinite(size))
@@ -290,8 +390,6 @@ namespace softface
                                     std::to_string(sweep) + ".");
                       continue;
                     }
-                  if (size > max_step_fraction * shortest)
-                    step *= max_step_fraction * shortest / size;
                   // Springs alone do not keep a tetrahedron from turning
                   // inside out (seed 2.2, disadvantage 1): a step that would
                   // invert one is halved until it does not, or not taken.
@@ -322,11 +420,21 @@ namespace softface
                       ++blocked_updates;
                       continue;
                     }
-                  // Its own force and its neighbours' forces have changed.
-                  active.queue(j);
-                  for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                    if (is_free[other_end[i]])
-                      active.queue(other_end[i]);
+                  // A pair moves together (by as much of its step as j).
+                  if (paired)
+                    x[partner] +=
+                      (prevent_inversion ? std::pow(0.5, halvings) : 1.) *
+                      step_other;
+                  // Their own forces and their neighbours' have changed.
+                  for (const unsigned int moved : {j, paired ? partner : j})
+                    {
+                      active.queue(moved);
+                      for (unsigned int i = row_start[moved];
+                           i < row_start[moved + 1];
+                           ++i)
+                        if (is_free[other_end[i]])
+                          active.queue(other_end[i]);
+                    }
                 }
             }
         }
@@ -345,7 +453,18 @@ namespace softface
         if (is_free[j])
           {
             double       shortest;
-            const double f = force(j, shortest).norm();
+            Tensor<1, 3> F = force(j, shortest);
+            // A constrained point: the step it would take under its
+            // constraint (what the constraint takes up is no residual).
+            if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
+              {
+                Tensor<1, 3> step = free_step(j), step_other;
+                if (constrain(j, step, step_other) !=
+                    numbers::invalid_unsigned_int)
+                  step = step.norm() > step_other.norm() ? step : step_other;
+                F = step * total_stiffness[j];
+              }
+            const double f = F.norm();
             last_report.max_step =
               std::max(last_report.max_step, f / total_stiffness[j]);
             residual += f * f;

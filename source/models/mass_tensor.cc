@@ -136,14 +136,16 @@ namespace softface
     unsigned int
     MassTensor::honoured_effects() const
     {
-      return SceneEffects::cell_materials | SceneEffects::body_forces;
+      return SceneEffects::cell_materials | SceneEffects::body_forces |
+             SceneEffects::free_vertex_constraints;
     }
 
     void
     MassTensor::do_setup(const Scene &scene_in)
     {
-      scene                = &scene_in;
-      converged_ready      = false;
+      scene           = &scene_in;
+      converged_ready = false;
+      converged_constraints.reset();
       const auto timed     = phase("tensors");
       mesh                 = std::make_unique<PointMesh>(*scene, "mass tensor");
       const unsigned int n = mesh->n_points();
@@ -187,6 +189,27 @@ namespace softface
               diagonal_inverse[j][3 * r + s] = D_inverse[r][s];
         }
 
+      // Without constraints constraint_of_point stays empty: the sweep's
+      // test of it is then one branch on an empty vector.
+      point_constraints.clear();
+      constraint_of_point.clear();
+      if (scene->has_vertex_constraints())
+        constraint_of_point.assign(n, -1);
+      for (const VertexConstraint &c : scene->effects.vertex_constraints)
+        {
+          const unsigned int a   = scene->vertex_dofs()[c.vertex][0] / 3;
+          const unsigned int b   = c.partner == numbers::invalid_unsigned_int ?
+                                     a :
+                                     scene->vertex_dofs()[c.partner][0] / 3;
+          constraint_of_point[a] = point_constraints.size();
+          constraint_of_point[b] = point_constraints.size();
+          point_constraints.push_back(
+            {a, b, c.normal / c.normal.norm(), c.unilateral});
+        }
+      if (!point_constraints.empty() && !gauss_seidel)
+        throw Error("mass tensor: vertex constraints (sliding contact, "
+                    "separated lips) need 'Ordering = gauss-seidel'.");
+
       add_detail("tensor memory",
                  (mesh->neighbour.size() *
                     (sizeof(Block) + sizeof(unsigned int)) +
@@ -222,12 +245,21 @@ namespace softface
                                          3 * neighbour[i] + s,
                                          coupling[i][3 * r + s]);
                 }
+          if (!point_constraints.empty())
+            {
+              converged_unconstrained.reinit(converged_sparsity);
+              converged_unconstrained.copy_from(converged_matrix);
+              converged_constraints =
+                std::make_unique<VertexConstraintSet>(*scene);
+              converged_condensed_for.clear();
+            }
           ConstrainedSystem::eliminate_join_dofs(scene->join_dofs(),
                                                  converged_matrix);
           LinearSolver::Parameters direct;
           direct.method = "direct";
           converged_solver.initialize(direct, *scene);
-          if (!converged_solver.set_matrix(converged_matrix))
+          if (point_constraints.empty() &&
+              !converged_solver.set_matrix(converged_matrix))
             throw Error("mass tensor: the tensors' matrix is not positive "
                         "definite; no converged answer to compare with.");
           converged_ready = true;
@@ -251,7 +283,124 @@ namespace softface
                     coupling[i][3 * r + s] * prescribed[3 * neighbour[i] + s];
           }
       converged.reinit(3 * n);
-      converged_solver.solve(rhs, converged);
+      if (converged_constraints)
+        {
+          Vector<double> minus_forces(3 * n);
+          if (scene->has_body_force())
+            minus_forces -= scene->effects.body_force;
+          converged_constraints->solve_with_active_set(
+            converged_unconstrained,
+            converged_matrix,
+            converged_condensed,
+            converged_condensed_for,
+            converged_solver,
+            rhs,
+            prescribed,
+            &minus_forces,
+            scene->effects.active_set_limit(),
+            "mass tensor (converged answer)",
+            converged);
+        }
+      else
+        converged_solver.solve(rhs, converged);
+    }
+
+    void
+    MassTensor::local_optimum(const unsigned int  j,
+                              const double *const u,
+                              const double *const load,
+                              double              opt[3]) const
+    {
+      const auto &row_start = mesh->row_start;
+      const auto &neighbour = mesh->neighbour;
+      double      f[3]      = {0., 0., 0.};
+      if (load != nullptr)
+        for (unsigned int r = 0; r < 3; ++r)
+          f[r] = -load[3 * j + r];
+      for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+        {
+          const double *B  = coupling[i].data();
+          const double *uk = u + 3 * neighbour[i];
+          for (unsigned int r = 0; r < 3; ++r)
+            f[r] +=
+              B[3 * r] * uk[0] + B[3 * r + 1] * uk[1] + B[3 * r + 2] * uk[2];
+        }
+      const double *D = diagonal_inverse[j].data();
+      for (unsigned int r = 0; r < 3; ++r)
+        opt[r] = -(D[3 * r] * f[0] + D[3 * r + 1] * f[1] + D[3 * r + 2] * f[2]);
+    }
+
+    void
+    MassTensor::constrained_update(const unsigned int    j,
+                                   double                opt[3],
+                                   double *const         u,
+                                   const double *const   load,
+                                   const Vector<double> &prescribed,
+                                   const double          threshold,
+                                   ActiveSet            &active) const
+    {
+      // The local problem's minimiser under the constraint: the
+      // unconstrained one moved along K_jj^-1 n (for a pair: both points,
+      // by the multiplier that closes their gap).
+      const PointConstraint &c   = point_constraints[constraint_of_point[j]];
+      const auto             D_n = [&](const unsigned int k, double Dn[3]) {
+        const double *D = diagonal_inverse[k].data();
+        for (unsigned int r = 0; r < 3; ++r)
+          Dn[r] =
+            D[3 * r] * c.n[0] + D[3 * r + 1] * c.n[1] + D[3 * r + 2] * c.n[2];
+        return c.n[0] * Dn[0] + c.n[1] * Dn[1] + c.n[2] * Dn[2];
+      };
+      if (c.a == c.b)
+        {
+          double gap = 0.;
+          for (unsigned int r = 0; r < 3; ++r)
+            gap += c.n[r] * (opt[r] - prescribed[3 * j + r]);
+          if (c.unilateral && gap >= 0.)
+            return;
+          double       Dn[3];
+          const double nDn = D_n(j, Dn);
+          for (unsigned int r = 0; r < 3; ++r)
+            opt[r] -= gap / nDn * Dn[r];
+          return;
+        }
+      const unsigned int other = (j == c.a ? c.b : c.a);
+      double             opt_other[3];
+      local_optimum(other, u, load, opt_other);
+      double *opt_a = (j == c.a ? opt : opt_other);
+      double *opt_b = (j == c.a ? opt_other : opt);
+      double  gap   = 0.;
+      for (unsigned int r = 0; r < 3; ++r)
+        gap += c.n[r] * (opt_a[r] - opt_b[r]);
+      if (!c.unilateral || gap < 0.)
+        {
+          double       Dn_a[3], Dn_b[3];
+          const double lambda = -gap / (D_n(c.a, Dn_a) + D_n(c.b, Dn_b));
+          for (unsigned int r = 0; r < 3; ++r)
+            {
+              opt_a[r] += lambda * Dn_a[r];
+              opt_b[r] -= lambda * Dn_b[r];
+            }
+        }
+      // The partner moves with the point (a block Gauss-Seidel update of
+      // the pair: the point alone could pass through it), and its
+      // neighbours feel it.
+      double step = 0.;
+      for (unsigned int r = 0; r < 3; ++r)
+        {
+          const double d = opt_other[r] - u[3 * other + r];
+          u[3 * other + r] += d;
+          step += d * d;
+        }
+      // Like any point whose step exceeds the threshold.
+      if (use_active_set && step > threshold * threshold)
+        {
+          active.queue(other);
+          for (unsigned int i = mesh->row_start[other];
+               i < mesh->row_start[other + 1];
+               ++i)
+            if (mesh->is_free[mesh->neighbour[i]])
+              active.queue(mesh->neighbour[i]);
+        }
     }
 
     void
@@ -292,7 +441,9 @@ namespace softface
       for (unsigned int j = 0; j < n; ++j)
         if (is_free[j])
           {
-            bool touched = !use_active_set || load != nullptr;
+            bool touched =
+              !use_active_set || load != nullptr ||
+              (!constraint_of_point.empty() && constraint_of_point[j] >= 0);
             for (unsigned int i = row_start[j];
                  i < row_start[j + 1] && !touched;
                  ++i)
@@ -387,13 +538,24 @@ namespace softface
                   f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
                   f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
                 }
-              const double *D    = diagonal_inverse[j].data();
-              double       *uj   = u + 3 * j;
-              const double  w    = relaxation;
-              const double  v[3] = {
-                 uj[0] + w * (-(D[0] * f0 + D[1] * f1 + D[2] * f2) - uj[0]),
-                 uj[1] + w * (-(D[3] * f0 + D[4] * f1 + D[5] * f2) - uj[1]),
-                 uj[2] + w * (-(D[6] * f0 + D[7] * f1 + D[8] * f2) - uj[2])};
+              const double *D      = diagonal_inverse[j].data();
+              double       *uj     = u + 3 * j;
+              const double  w      = relaxation;
+              double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
+                                      -(D[3] * f0 + D[4] * f1 + D[5] * f2),
+                                      -(D[6] * f0 + D[7] * f1 + D[8] * f2)};
+              double        wj     = w;
+              if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
+                {
+                  constrained_update(
+                    j, opt, u, load, prescribed, threshold, active);
+                  // The constrained minimiser whole: a relaxed step past it
+                  // could pass through the constraint.
+                  wj = 1.;
+                }
+              const double v[3] = {uj[0] + wj * (opt[0] - uj[0]),
+                                   uj[1] + wj * (opt[1] - uj[1]),
+                                   uj[2] + wj * (opt[2] - uj[2])};
               const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
                                             (v[1] - uj[1]) * (v[1] - uj[1]) +
                                             (v[2] - uj[2]) * (v[2] - uj[2]));
@@ -476,9 +638,28 @@ namespace softface
             const double *B  = diagonal[j].data();
             const double *uj = u + 3 * j;
             for (unsigned int a = 0; a < 3; ++a)
+              r[a] +=
+                B[3 * a] * uj[0] + B[3 * a + 1] * uj[1] + B[3 * a + 2] * uj[2];
+            // A constraint in contact takes up the force along its normal.
+            if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
               {
-                r[a] += B[3 * a] * uj[0] + B[3 * a + 1] * uj[1] +
-                        B[3 * a + 2] * uj[2];
+                const PointConstraint &c =
+                  point_constraints[constraint_of_point[j]];
+                double gap = 0., rn = 0.;
+                for (unsigned int a = 0; a < 3; ++a)
+                  {
+                    gap += c.n[a] * (c.a == c.b ?
+                                       u[3 * j + a] - prescribed[3 * j + a] :
+                                       u[3 * c.a + a] - u[3 * c.b + a]);
+                    rn += c.n[a] * r[a];
+                  }
+                if (!c.unilateral ||
+                    std::abs(gap) <= 1e-9 * (prescribed.linfty_norm() + 1e-300))
+                  for (unsigned int a = 0; a < 3; ++a)
+                    r[a] -= rn * c.n[a];
+              }
+            for (unsigned int a = 0; a < 3; ++a)
+              {
                 residual += r[a] * r[a];
                 initial += f[a] * f[a];
               }

@@ -113,6 +113,11 @@ namespace softface
           Vector<double> zero(is_join.size()), forces;
           evaluate(zero, forces, &tangent);
           ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+          // With constraints, on the tangent they condense: a slit's sides
+          // are tied only through them, and ML built without them was not
+          // a positive definite preconditioner (CG met negative curvature).
+          if (vertex_constraints)
+            vertex_constraints->condense(tangent);
           linear_solver.build_amg(tangent);
         }
     }
@@ -146,6 +151,10 @@ namespace softface
         is_join,
         linear_solver,
         [this]() { return refusal; });
+      if (vertex_constraints)
+        newton.set_vertex_constraints(vertex_constraints.get(),
+                                      &prescribed,
+                                      scene->effects.active_set_limit());
       last_report = newton.solve(
         motion, u, timer(), progress, description, hint, body_force);
       vertex_values(u, displacement);
@@ -154,6 +163,9 @@ namespace softface
       set_residual(last_report.final_residual);
       add_detail("load steps", last_report.load_steps);
       add_detail("cut-backs", last_report.cutbacks);
+      if (vertex_constraints)
+        add_detail("contact constraints holding",
+                   vertex_constraints->n_holding());
       std::string per_step;
       for (const unsigned int i : last_report.iterations_per_step)
         per_step += (per_step.empty() ? "" : "/") + std::to_string(i);

@@ -26,7 +26,8 @@ namespace softface
     unsigned int
     NonlinearFEM::honoured_effects() const
     {
-      return SceneEffects::cell_materials | SceneEffects::body_forces;
+      return SceneEffects::cell_materials | SceneEffects::body_forces |
+             SceneEffects::free_vertex_constraints;
     }
 
     void
@@ -38,6 +39,9 @@ namespace softface
         tissue_lame.push_back(scene->tissue(t).lame());
       body_force =
         scene->has_body_force() ? &scene->effects.body_force : nullptr;
+      vertex_constraints.reset();
+      if (scene->has_vertex_constraints())
+        vertex_constraints = std::make_unique<VertexConstraintSet>(*scene);
       {
         const auto timed = phase("cell geometry");
         cell_dofs.clear();

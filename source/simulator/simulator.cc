@@ -197,13 +197,32 @@ namespace softface
                            input_directory,
                            output.directory + "/patient",
                            &out);
+    // Effects that change the mesh (a slit, contact faces) do so before
+    // the models see it; the DoFs and join points are then found again.
     Planning planning;
-    planning.parse_parameters(prm, scene);
-    for (const auto &[name, effect] : effects)
+    try
       {
-        const std::string summary = effect->apply(scene);
-        scene.effects.names.push_back(name);
-        out << "  effect " << summary << std::endl;
+        bool mesh_changed = false;
+        for (const auto &[name, effect] : effects)
+          {
+            const std::string line = effect->prepare_mesh(scene);
+            if (!line.empty())
+              out << "  effect " << line << std::endl;
+            mesh_changed |= !line.empty();
+          }
+        if (mesh_changed)
+          scene.setup();
+        planning.parse_parameters(prm, scene);
+        for (const auto &[name, effect] : effects)
+          {
+            const std::string summary = effect->apply(scene);
+            scene.effects.names.push_back(name);
+            out << "  effect " << summary << std::endl;
+          }
+      }
+    catch (const Error &e)
+      {
+        throw Error(filename + ": " + e.what());
       }
 
     out << "  mesh " << scene.mesh_description << ": "

@@ -45,7 +45,8 @@ namespace softface
 
     /**
      * The displacement of every join point under this plan, as a vector on
-     * the scene's DoF layout (zero on the free DoFs).
+     * the scene's DoF layout (zero on the free DoFs but those of a vertex
+     * sliding on a bone: the bone's displacement there).
      */
     Vector<double>
     prescribed_displacement(const Scene &scene) const;

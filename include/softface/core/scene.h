@@ -2,6 +2,7 @@
 #define softface_scene_h
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
@@ -35,6 +36,33 @@ namespace softface
     /// A point in the segment's bone (patient scenes: which bone part of
     /// the osteotomy is this segment); empty for other scenes.
     std::vector<double> seed_point;
+    /// True if the segment only carries a sliding contact surface
+    /// (effects: sliding contact): it may then have no join point.
+    bool carries_contact_only = false;
+    /// The mean of its join points when first found (the default rotation
+    /// centre): an effect that later frees some of them does not move it.
+    std::vector<double> join_centroid = {};
+  };
+
+  /**
+   * A constraint on a free vertex (effects: sliding contact, separated
+   * lips): with n the unit normal at rest,
+   *   n . (u_vertex - u_partner) = g   (bilateral), or
+   *   n . (u_vertex - u_partner) >= g  (unilateral: may lift off, never
+   *                                     pass through),
+   * where u_partner is zero without a partner, and g = n . d with d the
+   * displacement of bone segment 'segment' at the vertex (the prescribed
+   * displacement holds it there, see Planning), or 0 without a segment.
+   * n points from the surface the vertex must not pass into the vertex's
+   * side. A vertex is in at most one constraint.
+   */
+  struct VertexConstraint
+  {
+    unsigned int vertex;
+    unsigned int partner = numbers::invalid_unsigned_int;
+    Tensor<1, 3> normal;
+    unsigned int segment    = numbers::invalid_unsigned_int;
+    bool         unilateral = false;
   };
 
   /**
@@ -49,7 +77,8 @@ namespace softface
     {
       none           = 0,
       cell_materials = 1, ///< tissues per cell (tissues, tissue_of_cell)
-      body_forces    = 2  ///< nodal loads (body_force)
+      body_forces    = 2, ///< nodal loads (body_force)
+      free_vertex_constraints = 4 ///< vertex_constraints
     };
 
     /// The names of the effects applied, in the order they were applied.
@@ -63,6 +92,16 @@ namespace softface
     /// The same body force per unit volume (N/mm^3) of every cell (active
     /// cell index), for a model on a layout of its own to integrate.
     std::vector<Tensor<1, 3>> cell_body_force;
+    /// Constraints on free vertices (sliding contact, the lips' contact).
+    std::vector<VertexConstraint> vertex_constraints;
+    /// Active-set iterations a FEM model may take for unilateral ones (the
+    /// largest any effect asks for; 0: none asked, 50).
+    unsigned int max_active_set_iterations = 0;
+    unsigned int
+    active_set_limit() const
+    {
+      return max_active_set_iterations > 0 ? max_active_set_iterations : 50;
+    }
   };
 
   /**
@@ -189,6 +228,11 @@ namespace softface
     has_body_force() const
     {
       return effects.body_force.size() != 0;
+    }
+    bool
+    has_vertex_constraints() const
+    {
+      return !effects.vertex_constraints.empty();
     }
 
     /// What the patient pipeline reported (stage, figure), if it ran.

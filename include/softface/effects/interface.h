@@ -38,6 +38,15 @@ namespace softface
       virtual void
       parse_parameters(ParameterHandler &prm);
 
+      /**
+       * Change the mesh before its DoFs are distributed (split it along a
+       * slit, relabel contact faces); @p scene's triangulation and segments
+       * exist, its DoFs are those of the mesh as read. Returns one line for
+       * the log, or nothing if the mesh is unchanged (the default).
+       */
+      virtual std::string
+      prepare_mesh(Scene &scene) const;
+
       /// The SceneEffects::Contribution flags a model must honour.
       virtual unsigned int
       contributions() const = 0;
@@ -88,6 +97,34 @@ namespace softface
      */
     std::map<types::material_id, double>
     parse_material_values(const std::string &entry, const std::string &text);
+
+    /**
+     * A box 'x0, x1, y0, y1, z0, z1' (mm) that limits where an effect
+     * applies; an empty text is everything. Throws an error that starts with
+     * @p entry for anything else.
+     */
+    struct Region
+    {
+      Point<3> lower, upper;
+      bool     everywhere = true;
+      bool
+      contains(const Point<3> &p) const
+      {
+        if (everywhere)
+          return true;
+        for (unsigned int d = 0; d < 3; ++d)
+          if (p[d] < lower[d] || p[d] > upper[d])
+            return false;
+        return true;
+      }
+    };
+    Region
+    parse_region(const std::string &entry, const std::string &text);
+
+    /// The entry 'Maximum active-set iterations' of an effect whose
+    /// constraints are unilateral.
+    void
+    declare_active_set_iterations(ParameterHandler &prm);
 
     /// One line per effect: name and description (for --help).
     std::string

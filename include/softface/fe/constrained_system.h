@@ -25,7 +25,8 @@ namespace softface
    */
   namespace ConstrainedSystem
   {
-    /// Sparsity of the scene's DoF layout (all vertex couplings).
+    /// Sparsity of the scene's DoF layout (all vertex couplings), with the
+    /// fill its vertex constraints need when condensed.
     void
     make_sparsity_pattern(const Scene &scene, SparsityPattern &sparsity);
 

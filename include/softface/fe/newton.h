@@ -7,6 +7,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/vertex_constraints.h>
 
 #include <functional>
 #include <ostream>
@@ -77,6 +78,21 @@ namespace softface
                       const std::function<std::string()> &where_refused = {});
 
     /**
+     * Solve subject to @p constraints (sliding contact, the lips' contact)
+     * too, with the bone displacement at sliding vertices in @p bone (both
+     * referenced until solve() returns). Each Newton step's increment keeps
+     * the holding constraints (closing their gaps at the step's load); the
+     * residual is measured in the constrained directions; after a load step
+     * converges, unilateral ones are updated and the step repeated until
+     * none changes (at most @p max_active_set_rounds times, else the step
+     * fails and is cut back).
+     */
+    void
+    set_vertex_constraints(VertexConstraintSet  *constraints,
+                           const Vector<double> *bone,
+                           const unsigned int    max_active_set_rounds);
+
+    /**
      * Carry @p u (zero on entry) to equilibrium with its join DoFs at
      * @p join_motion and, if not null, the external nodal forces
      * @p external_forces (gravity), both applied in the same load steps. Phases
@@ -128,6 +144,9 @@ namespace softface
     /// The largest unbalanced force a load step started with.
     double                reference_force = 0.;
     const Vector<double> *external        = nullptr;
+    VertexConstraintSet  *constraints     = nullptr;
+    const Vector<double> *bone            = nullptr;
+    unsigned int          max_rounds      = 50;
   };
 } // namespace softface
 

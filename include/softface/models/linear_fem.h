@@ -5,7 +5,11 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/vertex_constraints.h>
 #include <softface/models/interface.h>
+
+#include <memory>
+#include <vector>
 
 namespace softface
 {
@@ -70,6 +74,12 @@ namespace softface
       SparsityPattern      sparsity;
       SparseMatrix<double> stiffness;
       SparseMatrix<double> constrained_stiffness;
+      // With vertex constraints (sliding contact, lips): their lines, the
+      // stiffness condensed with the holding ones, and which lines those
+      // were when it was condensed.
+      std::unique_ptr<VertexConstraintSet> vertex_constraints;
+      SparseMatrix<double>                 condensed_stiffness;
+      std::vector<bool>                    condensed_for;
     };
   } // namespace Models
 } // namespace softface

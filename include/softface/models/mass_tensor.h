@@ -7,6 +7,8 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/vertex_constraints.h>
+#include <softface/models/active_set.h>
 #include <softface/models/interface.h>
 #include <softface/models/point_mesh.h>
 
@@ -123,12 +125,46 @@ namespace softface
       std::vector<Block>         coupling;
       std::vector<Block>         diagonal;
       std::vector<Block>         diagonal_inverse;
+      // Vertex constraints (sliding contact, lips) per point: the index of
+      // its constraint in point_constraints, or -1.
+      struct PointConstraint
+      {
+        unsigned int a, b; // points; b = a without a partner
+        Tensor<1, 3> n;
+        bool         unilateral;
+      };
+      std::vector<PointConstraint> point_constraints;
+      std::vector<int>             constraint_of_point;
+
+      /// The local problem's minimiser at point @p j: K_jj^-1 (f_j - sum_k
+      /// K_jk u_k) (seed eq. 12).
+      void
+      local_optimum(const unsigned int  j,
+                    const double *const u,
+                    const double *const load,
+                    double              opt[3]) const;
+      /// Move @p opt, point j's minimiser, onto its constraint (and, for a
+      /// pair, the partner point too).
+      void
+      constrained_update(const unsigned int    j,
+                         double                opt[3],
+                         double *const         u,
+                         const double *const   load,
+                         const Vector<double> &prescribed,
+                         const double          threshold,
+                         ActiveSet            &active) const;
 
       // The converged answer's system, built when first needed.
       SparsityPattern      converged_sparsity;
       SparseMatrix<double> converged_matrix;
       LinearSolver         converged_solver;
       bool                 converged_ready = false;
+      // With vertex constraints: K before elimination (for the contact
+      // forces), the constrained matrix and its constraints.
+      SparseMatrix<double>                 converged_unconstrained;
+      SparseMatrix<double>                 converged_condensed;
+      std::unique_ptr<VertexConstraintSet> converged_constraints;
+      std::vector<bool>                    converged_condensed_for;
 
       Report last_report;
     };

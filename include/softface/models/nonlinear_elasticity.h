@@ -7,8 +7,10 @@
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/material_law.h>
 #include <softface/fe/newton.h>
+#include <softface/fe/vertex_constraints.h>
 #include <softface/models/interface.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -106,6 +108,9 @@ namespace softface
       /// External nodal forces on the model's layout (gravity), applied in
       /// the load steps with the join motion; none if null.
       const Vector<double> *body_force = nullptr;
+      /// Constraints on free vertices of the shared layout (sliding
+      /// contact, lips), if the layout is the shared one and has any.
+      std::unique_ptr<VertexConstraintSet> vertex_constraints;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;
