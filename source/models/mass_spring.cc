@@ -426,15 +426,17 @@ namespace softface
                       (prevent_inversion ? std::pow(0.5, halvings) : 1.) *
                       step_other;
                   // Their own forces and their neighbours' have changed.
-                  for (const unsigned int moved : {j, paired ? partner : j})
-                    {
-                      active.queue(moved);
-                      for (unsigned int i = row_start[moved];
-                           i < row_start[moved + 1];
-                           ++i)
-                        if (is_free[other_end[i]])
-                          active.queue(other_end[i]);
-                    }
+                  const auto queue_around = [&](const unsigned int moved) {
+                    active.queue(moved);
+                    for (unsigned int i = row_start[moved];
+                         i < row_start[moved + 1];
+                         ++i)
+                      if (is_free[other_end[i]])
+                        active.queue(other_end[i]);
+                  };
+                  queue_around(j);
+                  if (paired)
+                    queue_around(partner);
                 }
             }
         }

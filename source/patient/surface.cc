@@ -267,7 +267,28 @@ namespace softface
     void
     write_surface(const TriangleSurface &surface, const std::string &filename)
     {
-      const auto data      = to_vtk(surface);
+      write_surface(surface, filename, {});
+    }
+
+    void
+    write_surface(const TriangleSurface         &surface,
+                  const std::string             &filename,
+                  const std::vector<PointField> &fields)
+    {
+      const auto data = to_vtk(surface);
+      for (const PointField &field : fields)
+        {
+          if (field.values.size() != field.components * surface.points.size())
+            throw Error("Surface '" + filename + "': field '" + field.name +
+                        "' does not have one value per point.");
+          vtkNew<vtkFloatArray> array;
+          array->SetName(field.name.c_str());
+          array->SetNumberOfComponents(field.components);
+          array->SetNumberOfTuples(surface.points.size());
+          for (unsigned int i = 0; i < field.values.size(); ++i)
+            array->SetValue(i, field.values[i]);
+          data->GetPointData()->AddArray(array);
+        }
       const auto extension = extension_of(filename);
       int        ok        = 0;
       if (extension == ".ply")

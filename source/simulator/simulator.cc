@@ -21,6 +21,7 @@
 #include <softface/simulator/output.h>
 #include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
+#include <softface/simulator/skin_output.h>
 
 #include <algorithm>
 #include <cmath>
@@ -116,6 +117,7 @@ namespace softface
     Planning::declare_parameters(prm, moved_segments);
     Models::declare_parameters(prm);
     Effects::declare_parameters(prm);
+    SkinParameters::declare_parameters(prm);
     OutputParameters::declare_parameters(prm);
   }
 
@@ -255,6 +257,35 @@ namespace softface
             << points_file.string() << std::endl;
       }
 
+    // The dense skin (Skin): read and step A of its mappings before any
+    // model runs, so that a skin the mesh cannot reach stops the run early.
+    std::unique_ptr<SkinOutput> skin;
+    SkinParameters              skin_parameters;
+    try
+      {
+        std::string patient_skin;
+        prm.enter_subsection("Scene");
+        if (prm.get("Mesh source") == "patient")
+          {
+            Patient::PatientParameters patient;
+            patient.parse_parameters(prm,
+                                     input_directory,
+                                     output.directory + "/patient");
+            patient_skin = patient.work_directory + "/skin.ply";
+          }
+        prm.leave_subsection();
+        skin_parameters.parse_parameters(prm, input_directory, patient_skin);
+        if (!skin_parameters.skin_surface.empty())
+          skin = std::make_unique<SkinOutput>(skin_parameters,
+                                              scene,
+                                              output.directory,
+                                              out);
+      }
+    catch (const Error &e)
+      {
+        throw Error(filename + ": " + e.what());
+      }
+
     std::filesystem::create_directories(output.directory);
     std::filesystem::copy_file(
       filename,
@@ -313,6 +344,8 @@ namespace softface
               Displacement::max_norm(scene, run.displacement);
             out << tag << "solve " << run.statistics.solve_time << " s"
                 << std::endl;
+            if (skin)
+              skin->add_model(name, scene, run.displacement);
             for (const auto &warning : run.statistics.warnings)
               err << "softface: warning: " << name << ": " << warning
                   << std::endl;
@@ -348,6 +381,8 @@ namespace softface
     Report::compare_to(scene, reference, model_runs);
     out << '\n';
     Report::print(scene, model_runs, reference, true, out);
+    if (skin)
+      skin->write(out);
     Report::write_summary_csv(scene,
                               model_runs,
                               reference,
@@ -373,6 +408,7 @@ namespace softface
         << (output.write_vtu ? ", solution.vtu" : "")
         << (output.write_nodal_displacements ? ", displacements_*.csv" : "")
         << (evaluation ? ", evaluation_*.csv" : "")
+        << (skin ? ", skin.csv, skin_*.ply/.vtp" : "")
         << ", input.prm, parameters.prm)\n"
         << "Wall time " << std::setprecision(2) << wall.wall_time()
         << " s, peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;

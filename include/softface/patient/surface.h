@@ -40,6 +40,20 @@ namespace softface
     void
     write_surface(const TriangleSurface &surface, const std::string &filename);
 
+    /// Values at the points of a surface (1 or 3 components), for .vtp.
+    struct PointField
+    {
+      std::string         name;
+      unsigned int        components = 1;
+      std::vector<double> values; ///< components per point, point by point
+    };
+
+    /// As above; .vtp files also carry @p fields (a .ply only the surface).
+    void
+    write_surface(const TriangleSurface         &surface,
+                  const std::string             &filename,
+                  const std::vector<PointField> &fields);
+
     /// Read a .ply or .vtp surface (triangles; other polygons are refused).
     TriangleSurface
     read_surface(const std::string &filename);

@@ -1,0 +1,91 @@
+#ifndef softface_simulator_skin_output_h
+#define softface_simulator_skin_output_h
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/lac/vector.h>
+
+#include <softface/core/scene.h>
+#include <softface/mapping/skin_mapping.h>
+#include <softface/validation/distances.h>
+
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Subsection "Skin": the dense skin surface that every model's prediction
+   * is mapped onto (seed 3.4), and the post-operative skin it is measured
+   * against (seed 3.5).
+   */
+  struct SkinParameters
+  {
+    static void
+    declare_parameters(ParameterHandler &prm);
+    /// Relative files are taken from @p input_directory; @p patient_skin is
+    /// the skin the patient pipeline made (empty for other scenes).
+    void
+    parse_parameters(ParameterHandler  &prm,
+                     const std::string &input_directory,
+                     const std::string &patient_skin);
+
+    std::string                         skin_surface; ///< empty: no skin
+    std::string                         post_operative_skin;
+    std::set<types::boundary_id>        mesh_skin_boundary_ids;
+    std::vector<SurfaceMapping::Method> methods;
+    SurfaceMapping::Parameters          mapping;
+    Validation::Mask                    mask;
+  };
+
+  /**
+   * The predicted skins of a run: step A of each mapping once, then for
+   * every model step B, its skin as PLY and VTP (displacement and, with a
+   * post-operative skin, the signed distance to it, for a -3..3 mm colour
+   * map in ParaView) and the distance statistics, into skin.csv and a table.
+   */
+  class SkinOutput
+  {
+  public:
+    /// Reads the skins and runs step A; progress and figures on @p out.
+    SkinOutput(const SkinParameters &parameters,
+               const Scene          &scene,
+               const std::string    &directory,
+               std::ostream         &out);
+
+    /// Step B for one model's displacement (on the scene's layout), its
+    /// skin files and statistics.
+    void
+    add_model(const std::string    &model,
+              const Scene          &scene,
+              const Vector<double> &displacement);
+
+    /// skin.csv and the table on @p out.
+    void
+    write(std::ostream &out) const;
+
+  private:
+    struct Row
+    {
+      std::string            model;
+      SurfaceMapping::Method method;
+      double                 step_b_seconds   = 0.;
+      double                 max_displacement = 0.;
+      bool                   measured         = false;
+      Validation::Statistics distances;
+    };
+
+    const SkinParameters                    &parameters;
+    std::string                              directory;
+    SurfaceMapping::Surface                  skin;
+    SurfaceMapping::Surface                  post_operative;
+    std::vector<SurfaceMapping::SkinMapping> mappings;
+    std::vector<double>                      step_a_seconds;
+    std::vector<Row>                         rows;
+  };
+} // namespace softface
+
+#endif

@@ -1,0 +1,333 @@
+// The predicted skins of a run (simulator, seed 3.4-3.5): the Skin
+// parameters, step A of the chosen mappings once per scene, step B for every
+// model, the skins as PLY/VTP and the distances to a post-operative skin.
+
+#include <deal.II/base/timer.h>
+#include <deal.II/base/utilities.h>
+
+#include <softface/core/error.h>
+#include <softface/io/output_file.h>
+#include <softface/patient/surface.h>
+#include <softface/patient/tetrahedral_mesh.h>
+#include <softface/simulator/output.h>
+#include <softface/simulator/skin_output.h>
+
+#include <filesystem>
+#include <iomanip>
+
+namespace softface
+{
+  namespace
+  {
+    SurfaceMapping::Surface
+    read_skin(const std::string &filename, const std::string &parameter)
+    {
+      Patient::TriangleSurface surface;
+      try
+        {
+          surface = Patient::read_surface(filename);
+        }
+      catch (const Error &e)
+        {
+          throw Error(parameter + ": " + e.what());
+        }
+      SurfaceMapping::Surface s;
+      for (const auto &p : surface.points)
+        s.points.emplace_back(p[0], p[1], p[2]);
+      s.triangles = surface.triangles;
+      SurfaceMapping::check_manifold(s, parameter + " '" + filename + "'");
+      return s;
+    }
+
+    Patient::TriangleSurface
+    to_patient(const SurfaceMapping::Surface &s)
+    {
+      Patient::TriangleSurface surface;
+      for (const auto &p : s.points)
+        surface.points.push_back({{p[0], p[1], p[2]}});
+      surface.triangles = s.triangles;
+      return surface;
+    }
+
+    std::string
+    short_name(const SurfaceMapping::Method method)
+    {
+      return method == SurfaceMapping::Method::shape_functions ? "sf" : "idw";
+    }
+  } // namespace
+
+  void
+  SkinParameters::declare_parameters(ParameterHandler &prm)
+  {
+    prm.enter_subsection("Skin");
+    prm.declare_entry(
+      "Skin surface",
+      "auto",
+      Patterns::Anything(),
+      "The dense skin surface (.ply or .vtp, mm, in the mesh's frame) that "
+      "every model's prediction is mapped onto (seed 3.4). 'auto': the skin "
+      "the patient pipeline made for a patient scene, none for other scenes; "
+      "'none': no skin.");
+    prm.declare_entry("Post-operative skin",
+                      "",
+                      Patterns::Anything(),
+                      "The post-operative skin (.ply or .vtp, registered to "
+                      "the pre-operative frame) that the predicted skins are "
+                      "measured against (signed closest-point distances, "
+                      "negative where the prediction lies behind it). Empty: "
+                      "no distances.");
+    prm.declare_entry(
+      "Mapping",
+      "shape functions",
+      Patterns::MultipleSelection("shape functions|inverse distance"),
+      "How the mesh's displacement reaches the skin: 'shape functions' of "
+      "the tetrahedron holding a skin point (or whose skin face it projects "
+      "onto), 'inverse distance' weighting of the skin points matched to the "
+      "mesh's skin vertices; both: every model mapped both ways.");
+    prm.declare_entry("Mesh skin boundary ids",
+                      "",
+                      Patterns::List(Patterns::Integer(0, 255)),
+                      "The boundary ids of the mesh's faces that are skin. "
+                      "Empty: the patient pipeline's skin id for a patient "
+                      "scene, every boundary face otherwise.");
+    prm.declare_entry("Reach",
+                      "3",
+                      Patterns::Double(0.),
+                      "Skin points farther than this (mm) from the mesh's "
+                      "skin lie outside the simulated region and do not "
+                      "move.");
+    prm.declare_entry("Search radius",
+                      "3",
+                      Patterns::Double(0.),
+                      "Inverse distance weighting: known points within this "
+                      "distance (mm; the seed's x = 3) ...");
+    prm.declare_entry("Connectivity rings",
+                      "5",
+                      Patterns::Integer(1, 1000),
+                      "... and fewer than this many edges away on the skin "
+                      "(the seed's y = 5).");
+    prm.declare_entry("Masked boxes",
+                      "",
+                      Patterns::Anything(),
+                      "Regions left out of the distance statistics (eyes, "
+                      "neck): boxes 'x0, y0, z0; x1, y1, z1' (mm) separated "
+                      "by '|'.");
+    prm.leave_subsection();
+  }
+
+  void
+  SkinParameters::parse_parameters(ParameterHandler  &prm,
+                                   const std::string &input_directory,
+                                   const std::string &patient_skin)
+  {
+    prm.enter_subsection("Skin");
+    const auto relative = [&](std::string file) {
+      if (!file.empty() && file[0] != '/' && !input_directory.empty())
+        file = input_directory + "/" + file;
+      return file;
+    };
+    skin_surface = prm.get("Skin surface");
+    if (skin_surface == "auto")
+      skin_surface = patient_skin;
+    else if (skin_surface == "none")
+      skin_surface.clear();
+    else
+      skin_surface = relative(skin_surface);
+    post_operative_skin = relative(prm.get("Post-operative skin"));
+    if (!post_operative_skin.empty() && skin_surface.empty())
+      throw Error("Skin/Post-operative skin: given, but the scene has no "
+                  "skin surface to predict (Skin/Skin surface).");
+    methods.clear();
+    for (const std::string &name :
+         Utilities::split_string_list(prm.get("Mapping")))
+      methods.push_back(SurfaceMapping::method_from_name(name));
+    if (methods.empty())
+      methods.push_back(SurfaceMapping::Method::shape_functions);
+    mesh_skin_boundary_ids.clear();
+    for (const int id : Utilities::string_to_int(
+           Utilities::split_string_list(prm.get("Mesh skin boundary ids"))))
+      mesh_skin_boundary_ids.insert(id);
+    if (mesh_skin_boundary_ids.empty() && !patient_skin.empty())
+      mesh_skin_boundary_ids.insert(Patient::skin_boundary_id);
+    mapping.reach  = prm.get_double("Reach");
+    mapping.radius = prm.get_double("Search radius");
+    mapping.rings  = prm.get_integer("Connectivity rings");
+    mask =
+      Validation::Mask::parse(prm.get("Masked boxes"), "Skin/Masked boxes");
+    prm.leave_subsection();
+  }
+
+  SkinOutput::SkinOutput(const SkinParameters &parameters,
+                         const Scene          &scene,
+                         const std::string    &directory,
+                         std::ostream         &out)
+      : parameters(parameters)
+      , directory(directory)
+  {
+    skin = read_skin(parameters.skin_surface, "Skin/Skin surface");
+    if (!parameters.post_operative_skin.empty())
+      post_operative =
+        read_skin(parameters.post_operative_skin, "Skin/Post-operative skin");
+    if (!post_operative.points.empty())
+      {
+        // Known before any model runs: a mask that leaves nothing to measure.
+        unsigned int n_measured = 0;
+        for (const Point<3> &p : skin.points)
+          n_measured += !parameters.mask.masked(p);
+        if (n_measured == 0)
+          throw Error("Skin/Masked boxes: the mask leaves no point of the "
+                      "skin to measure (all " +
+                      std::to_string(skin.points.size()) +
+                      " are in masked boxes).");
+      }
+    const auto mesh = SurfaceMapping::VolumeMesh::from_triangulation(
+      scene.triangulation, parameters.mesh_skin_boundary_ids);
+    if (mesh.skin.triangles.empty())
+      throw Error("Skin/Mesh skin boundary ids: no boundary face of the mesh "
+                  "has one of these ids.");
+    out << "  skin " << parameters.skin_surface << ": " << skin.points.size()
+        << " points, " << skin.triangles.size() << " triangles" << std::endl;
+    for (const SurfaceMapping::Method method : parameters.methods)
+      {
+        SurfaceMapping::Parameters p = parameters.mapping;
+        p.method                     = method;
+        Timer timer;
+        try
+          {
+            mappings.push_back(SurfaceMapping::initialise(mesh, skin, p));
+          }
+        catch (const Error &e)
+          {
+            throw Error("Skin/Skin surface '" + parameters.skin_surface +
+                        "': " + e.what());
+          }
+        step_a_seconds.push_back(timer.wall_time());
+        const auto &m = mappings.back();
+        out << "  skin mapping (" << SurfaceMapping::name_of(method)
+            << "): step A " << std::fixed << std::setprecision(3)
+            << step_a_seconds.back() << " s; " << m.n_points() - m.n_outside
+            << " points mapped, " << m.n_outside << " out of reach"
+            << std::endl;
+        if (m.n_without_neighbours > 0)
+          out << "  skin mapping: warning: " << m.n_without_neighbours
+              << " points within reach have no known point within " << p.radius
+              << " mm and " << p.rings
+              << " rings and do not move; widen Skin/Search radius or "
+                 "Skin/Connectivity rings."
+              << std::endl;
+      }
+    std::filesystem::create_directories(directory);
+    for (const std::string extension : {".ply", ".vtp"})
+      {
+        Patient::write_surface(to_patient(skin),
+                               directory + "/skin_preoperative" + extension);
+        if (!post_operative.points.empty())
+          Patient::write_surface(to_patient(post_operative),
+                                 directory + "/skin_postoperative" + extension);
+      }
+  }
+
+  void
+  SkinOutput::add_model(const std::string    &model,
+                        const Scene          &scene,
+                        const Vector<double> &displacement)
+  {
+    std::vector<Tensor<1, 3>> skin_u;
+    for (unsigned int k = 0; k < mappings.size(); ++k)
+      {
+        Row row;
+        row.model  = model;
+        row.method = parameters.methods[k];
+        // Step B: the vertex displacements gathered, then the weighted sums.
+        Timer                     timer;
+        std::vector<Tensor<1, 3>> vertex_u(scene.vertex_dofs().size());
+        for (unsigned int v = 0; v < vertex_u.size(); ++v)
+          if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
+            for (unsigned int c = 0; c < 3; ++c)
+              vertex_u[v][c] = displacement[scene.vertex_dofs()[v][c]];
+        mappings[k].map(vertex_u, skin_u);
+        row.step_b_seconds = timer.wall_time();
+
+        SurfaceMapping::Surface predicted = skin;
+        std::vector<double>     u_values, distance_values;
+        for (unsigned int i = 0; i < skin_u.size(); ++i)
+          {
+            predicted.points[i] += skin_u[i];
+            row.max_displacement =
+              std::max(row.max_displacement, skin_u[i].norm());
+            for (unsigned int c = 0; c < 3; ++c)
+              u_values.push_back(skin_u[i][c]);
+          }
+        std::vector<Patient::PointField> fields = {
+          {"displacement", 3, u_values}};
+        if (!post_operative.points.empty())
+          {
+            distance_values =
+              Validation::signed_distances(predicted.points, post_operative);
+            row.distances = Validation::statistics(distance_values,
+                                                   skin.points,
+                                                   parameters.mask);
+            row.measured  = true;
+            fields.push_back({"signed distance", 1, distance_values});
+          }
+        const std::string name =
+          directory + "/skin_" + Output::file_name_of(model) +
+          (parameters.methods.size() > 1 ? "_" + short_name(row.method) : "");
+        Patient::write_surface(to_patient(predicted), name + ".ply");
+        Patient::write_surface(to_patient(predicted), name + ".vtp", fields);
+        rows.push_back(row);
+      }
+  }
+
+  void
+  SkinOutput::write(std::ostream &out) const
+  {
+    auto csv = open_output_file(directory + "/skin.csv");
+    csv << "model,mapping,skin points,mapped points,step A s,step B s,"
+           "max |u| mm,measured points,mean mm,mean |d| mm,variance mm2,"
+           "max |d| mm,p50 mm,p90 mm,p95 mm\n";
+    csv << std::setprecision(10);
+    out << "\nSkin (" << skin.points.size() << " points"
+        << (post_operative.points.empty() ? "" :
+                                            "; distances to the post-operative "
+                                            "skin, mm")
+        << ")\n";
+    out << std::left << std::setw(16) << "model" << std::setw(18) << "mapping"
+        << std::right << std::setw(10) << "step A s" << std::setw(10)
+        << "step B s" << std::setw(10) << "max |u|";
+    if (!post_operative.points.empty())
+      out << std::setw(9) << "mean" << std::setw(9) << "p50" << std::setw(9)
+          << "p90" << std::setw(9) << "p95" << std::setw(9) << "max";
+    out << '\n';
+    for (const Row &row : rows)
+      {
+        unsigned int k = 0;
+        while (parameters.methods[k] != row.method)
+          ++k;
+        const auto &m = mappings[k];
+        csv << row.model << ',' << SurfaceMapping::name_of(row.method) << ','
+            << m.n_points() << ',' << m.n_points() - m.n_outside << ','
+            << step_a_seconds[k] << ',' << row.step_b_seconds << ','
+            << row.max_displacement;
+        if (row.measured)
+          csv << ',' << row.distances.n << ',' << row.distances.mean << ','
+              << row.distances.mean_absolute << ',' << row.distances.variance
+              << ',' << row.distances.max_absolute << ',' << row.distances.p50
+              << ',' << row.distances.p90 << ',' << row.distances.p95;
+        else
+          csv << ",,,,,,,,";
+        csv << '\n';
+        out << std::left << std::setw(16) << row.model << std::setw(18)
+            << SurfaceMapping::name_of(row.method) << std::right << std::fixed
+            << std::setprecision(3) << std::setw(10) << step_a_seconds[k]
+            << std::setw(10) << row.step_b_seconds << std::setw(10)
+            << std::setprecision(2) << row.max_displacement;
+        if (row.measured)
+          out << std::setw(9) << row.distances.mean << std::setw(9)
+              << row.distances.p50 << std::setw(9) << row.distances.p90
+              << std::setw(9) << row.distances.p95 << std::setw(9)
+              << row.distances.max_absolute;
+        out << '\n';
+      }
+  }
+} // namespace softface
