@@ -18,6 +18,7 @@ library is needed.
 """
 import math
 import os
+import random
 
 # The phantom's landmarks (source/patient/phantom.cc, Phantom::Phantom) for
 # the seed points, which must lie in each segment's bone.
@@ -91,7 +92,11 @@ def vec(v):
 
 
 def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
-          comment):
+          comment, truth=None, errors=None):
+    """truth: the file name of the scene that makes this one's post-operative
+    skin; errors (a truth scene's): segment -> (translation error, rotation
+    axis, angle in degrees) added to the planned motion, the rotation about
+    the segment's seed point."""
     W, H = a["width"], a["height"]
     shift = {"class II": -a["discrepancy"], "class III": a["discrepancy"],
              "class I": 0.0}[a["profile"]]
@@ -202,9 +207,24 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         "(the seed's M_max).",
         f"  set Moved segments = {', '.join(motions)}",
     ]
+    seeds = {"maxilla": [0, -66, round(OCCLUSION + 12.0 * H, 6)],
+             "mandible": [round(x, 1) for x in mandible],
+             "chin": [round(x, 1) for x in chin]}
     for segment, t in motions.items():
-        lines += [f"  subsection Motion {segment}",
-                  f"    set Translation = {vec(t)}", "  end"]
+        lines += [f"  subsection Motion {segment}"]
+        if errors and segment in errors:
+            dt, axis, angle = errors[segment]
+            lines += [
+                f"    # Planned: translation {vec(t)}; the known error: "
+                f"{vec(dt)} mm and {angle:.3f} degrees",
+                f"    # about {vec(axis)} through the seed point.",
+                f"    set Translation     = {vec([a + b for a, b in zip(t, dt)])}",
+                f"    set Rotation axis   = {vec(axis)}",
+                f"    set Rotation angle  = {angle:.4f}",
+                f"    set Rotation centre = {vec(seeds[segment])}"]
+        else:
+            lines += [f"    set Translation = {vec(t)}"]
+        lines += ["  end"]
     lines += [
         "end",
         "",
@@ -223,6 +243,10 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         "    set Material law = neo-hooke",
         "    set Solver       = cg amg",
         "  end",
+        "  subsection reference fem",
+        "    set Material law = neo-hooke",
+        "    set Solver       = cg amg",
+        "  end",
         "end",
         "",
         "subsection Output",
@@ -230,10 +254,61 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         "end",
         "",
     ]
+    if errors is not None:
+        lines += [
+            "# The truth is richer than the models it judges: skin, fat and",
+            "# muscle with their own moduli (doc/effects.md). Gravity is left",
+            "# out: the CT shows the face already in equilibrium under gravity",
+            "# (supine), so adding it would move the face before any surgery.",
+            "# Sliding contact and separated lips are not simulated by the",
+            "# quadratic reference model.",
+            "subsection Effects",
+            "  set Effects = heterogeneous tissue",
+            "  subsection heterogeneous tissue",
+            "    set Young's moduli = 1: 15000, 2: 3000, 3: 6000",
+            "  end",
+            "end",
+            ""]
+    if truth is not None:
+        lines += [
+            "subsection Skin",
+            "  # Every model's prediction mapped onto the dense skin both ways",
+            "  # (seed 3.4) and measured against the post-operative skin that",
+            f"  # {truth} makes (run first, then reused).",
+            "  set Mapping             = shape functions, inverse distance",
+            f"  set Post-operative skin = {truth}",
+            "end",
+            ""]
     return "\n".join(lines)
 
 
+def planning_errors(name, motions):
+    """The truth's known planning error for each moved segment (seed 3.2:
+    the residual mismatch between planned and achieved bone positions, about
+    1 mm): a translation of 0.7 mm and a rotation of 0.6 degrees about the
+    segment's seed point (about 0.5 mm at 50 mm), in random directions drawn
+    from a generator seeded with the patient's name."""
+    generator = random.Random(name)
+    errors = {}
+    for segment in motions:
+        directions = []
+        for _ in range(2):
+            v = [generator.gauss(0, 1) for _ in range(3)]
+            norm = math.sqrt(sum(x * x for x in v))
+            directions.append([round(x / norm, 4) for x in v])
+        errors[segment] = ([round(0.7 * x, 3) for x in directions[0]],
+                           directions[1], 0.6)
+    return errors
+
+
 ALL = "linear fem, mass tensor, mass spring, nonlinear fem"
+TRUTH_COMMENT = (
+    "The post-operative truth of phantom patient {name} (issue 14): made by a "
+    "model richer\n# than the ones it judges (quadratic Neo-Hooke, skin, fat "
+    "and muscle) and driven by\n# the planning plus a known error. Distances "
+    "to it measure what the predicting\n# models leave out, not the distance "
+    "to a real patient. Its skin_reference_fem.ply\n# is the post-operative "
+    "skin of {name}.prm, which runs it.")
 
 if __name__ == "__main__":
     os.makedirs("prm/patients", exist_ok=True)
@@ -241,21 +316,41 @@ if __name__ == "__main__":
         text = scene(name, procedure, n_tets, m_max, anatomy, motions, ALL,
                      f"output/patients/{name}",
                      f"Phantom patient {name} after the seed's Table 2: "
-                     f"{procedure}, {n_tets} tetrahedra in the seed.")
+                     f"{procedure}, {n_tets} tetrahedra in the seed.",
+                     truth=f"{name}_truth.prm")
         with open(f"prm/patients/{name}.prm", "w") as f:
             f.write(text)
+        text = scene(name, procedure, n_tets, m_max, anatomy, motions,
+                     "reference fem", f"output/patients/{name}_truth",
+                     TRUTH_COMMENT.format(name=name),
+                     errors=planning_errors(name, motions))
+        text = text.replace(f"prm/patients/{name}.prm",
+                            f"prm/patients/{name}_truth.prm")
+        with open(f"prm/patients/{name}_truth.prm", "w") as f:
+            f.write(text)
     # The quick-start patient: an average class II face, mandibular
-    # advancement and genioplasty, all four models.
-    text = scene("P0", "MA + G", 60000, 8.2,
-                 dict(width=1.0, height=1.0, tissue=1, length=0.96, angle=120,
-                      profile="class II", discrepancy=6),
-                 {"mandible": (0, -6.0, 0), "chin": (0, -8.0, 2.0)}, ALL,
-                 "output/patient",
-                 "A phantom patient end to end (seed 3.1-3.3): CT -> labels "
-                 "-> surfaces -> mesh ->\n# bone segments -> the four models. "
-                 "Files of the patient stages go to\n# output/patient/patient/ "
-                 "and are reused while their inputs do not change.")
+    # advancement and genioplasty, all four models, and its truth.
+    p0 = ("P0", "MA + G", 60000, 8.2,
+          dict(width=1.0, height=1.0, tissue=1, length=0.96, angle=120,
+               profile="class II", discrepancy=6),
+          {"mandible": (0, -6.0, 0), "chin": (0, -8.0, 2.0)})
+    text = scene(*p0, ALL, "output/patient",
+                 "A phantom patient end to end (seed 3.1-3.4): CT -> labels "
+                 "-> surfaces -> mesh ->\n# bone segments -> the four models "
+                 "-> the predicted skins and their distance to\n# the "
+                 "post-operative skin (made by prm/patient_truth.prm). Files "
+                 "of the patient\n# stages go to output/patient/patient/ and "
+                 "are reused while their inputs do\n# not change.",
+                 truth="patient_truth.prm")
     text = text.replace("prm/patients/P0.prm", "prm/patient.prm")
     with open("prm/patient.prm", "w") as f:
         f.write(text)
-    print("wrote prm/patients/P1.prm ... P10.prm and prm/patient.prm")
+    text = scene(*p0, "reference fem", "output/patient_truth",
+                 TRUTH_COMMENT.format(name="prm/patient.prm").replace(
+                     "skin of prm/patient.prm.prm", "skin of prm/patient.prm"),
+                 errors=planning_errors("P0", p0[5]))
+    text = text.replace("prm/patients/P0.prm", "prm/patient_truth.prm")
+    with open("prm/patient_truth.prm", "w") as f:
+        f.write(text)
+    print("wrote prm/patients/P1.prm ... P10.prm, their truths P*_truth.prm, "
+          "prm/patient.prm and prm/patient_truth.prm")

@@ -14,7 +14,9 @@ import re
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import summary  # noqa: E402
+import skin_report  # noqa: E402
 
 # The seed's Table 2 (Mollemans et al. 2007): procedure, N_tetra, M_max (mm),
 # T_FEM, T_MTM, T_MSM, T_NFEM (s) on a Pentium 4 with 1 GB; None where the
@@ -197,6 +199,8 @@ def main(work, results):
             f"{r['shared join points']} | {fmt(r['wall_s'])} | "
             f"{r['peak_memory_mb']} |")
     md.append("")
+
+    md += skin_report.sections(work, results, [r["patient"] for r in rows])
 
     md.append("## The patients\n")
     md.append("Skin and skull of each phantom (front and right profile), "

@@ -5,7 +5,8 @@
 # models) and writes doc/results/patients.md (+ patients.csv, and one PNG per
 # patient of its skin and skull, front and profile).
 #
-#   benchmarks/patients/run.sh            all ten, from scratch (about 15 min)
+#   benchmarks/patients/run.sh            all ten (about 15 min, plus about
+#                                         an hour for their truths the first time)
 #   benchmarks/patients/run.sh P4 P5      some of them
 #   benchmarks/patients/run.sh --report-only
 #
@@ -44,9 +45,20 @@ if [ $report_only -eq 0 ]; then
     out="$work/$p"
     rm -rf "$out"
     mkdir -p "$out"
-    # The scene with its output folder redirected into the build tree.
-    sed "s|set Output directory = .*|set Output directory = $root/$out|" \
+    # The scene and its truth (the post-operative skin) with their output
+    # folders redirected into the build tree; the truth's folder is kept, so
+    # that an unchanged truth is not made again.
+    truth="$work/${p}_truth"
+    mkdir -p "$truth"
+    sed "s|set Output directory = .*|set Output directory = $root/$truth|" \
+      "prm/patients/${p}_truth.prm" > "$truth/scene.tmp"
+    cmp -s "$truth/scene.tmp" "$truth/scene.prm" || mv "$truth/scene.tmp" "$truth/scene.prm"
+    rm -f "$truth/scene.tmp"
+    sed -e "s|set Output directory = .*|set Output directory = $root/$out|" \
+      -e "s|set Post-operative skin = .*|set Post-operative skin = $root/$truth/scene.prm|" \
       "prm/patients/$p.prm" > "$out/scene.prm"
+    # The signed distances per skin point, for the distance maps.
+    printf 'subsection Skin\n  set Write distances = true\nend\n' >> "$out/scene.prm"
     echo "patients: $p"
     start=$(date +%s%N)
     set +e

@@ -169,6 +169,7 @@ namespace softface
               if (hit.distance > parameters.reach)
                 {
                   ++mapping.n_outside;
+                  mapping.in_reach.push_back(false);
                   mapping.row_start.push_back(mapping.vertices.size());
                   continue;
                 }
@@ -178,9 +179,11 @@ namespace softface
           else
             {
               ++mapping.n_outside;
+              mapping.in_reach.push_back(false);
               mapping.row_start.push_back(mapping.vertices.size());
               continue;
             }
+          mapping.in_reach.push_back(true);
           for (unsigned int v = 0; v < 4; ++v)
             {
               mapping.vertices.push_back(mesh.cells[cell][v]);
@@ -250,10 +253,14 @@ namespace softface
                 mapping.weights.push_back(w / known[j].size());
               }
           };
+          const bool in_reach =
+            !known[i].empty() ||
+            (!mesh.skin.triangles.empty() &&
+             mesh_skin_search.closest(p).distance <= parameters.reach);
+          mapping.in_reach.push_back(in_reach);
           if (!known[i].empty())
             add_known(i, 1.);
-          else if (mesh.skin.triangles.empty() ||
-                   mesh_skin_search.closest(p).distance > parameters.reach)
+          else if (!in_reach)
             ++mapping.n_outside;
           else
             {

@@ -29,6 +29,7 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace softface
 {
@@ -98,6 +99,55 @@ namespace softface
       std::string evaluation_points;
       std::string reference_model;
     };
+
+    // The skin a truth scene predicts (its one model, one mapping), made by
+    // running it unless its output folder holds the skin made from the same
+    // file (it keeps a copy of its input as input.prm).
+    std::string
+    post_operative_skin_of(const std::string &truth_scene, std::ostream &out)
+    {
+      const std::string where =
+        "Skin/Post-operative skin '" + truth_scene + "'";
+      if (!std::filesystem::exists(truth_scene))
+        throw Error(where + ": no such scene file.");
+      ParameterHandler prm;
+      Simulator::read_parameters(truth_scene, prm);
+      OutputParameters output;
+      output.parse_parameters(prm);
+      const auto models = Models::selected_names(prm);
+      prm.enter_subsection("Skin");
+      const std::string mapping = prm.get("Mapping");
+      prm.leave_subsection();
+      if (models.size() != 1 || mapping.find(',') != std::string::npos)
+        throw Error(where + ": a truth scene runs one model and one mapping.");
+      const std::string skin =
+        output.directory + "/skin_" + Output::file_name_of(models[0]) + ".ply";
+      const auto contents = [](const std::string &file) {
+        std::ifstream      in(file);
+        std::ostringstream s;
+        s << in.rdbuf();
+        return in ? s.str() : std::string();
+      };
+      if (std::filesystem::exists(skin) &&
+          contents(output.directory + "/input.prm") == contents(truth_scene))
+        {
+          out << "  post-operative skin " << skin << " (made by " << truth_scene
+              << ")" << std::endl;
+          return skin;
+        }
+      // An older skin must not pass for this scene's if its run fails.
+      std::filesystem::remove(skin);
+      out << "  post-operative skin: running the truth scene " << truth_scene
+          << std::endl;
+      Simulator truth;
+      const int code = truth.run(truth_scene, out, out);
+      if (code != 0 || !std::filesystem::exists(skin))
+        throw Error(where + ": the truth scene failed (its output is in " +
+                    output.directory + ").");
+      out << "  post-operative skin " << skin << " (made by " << truth_scene
+          << ")" << std::endl;
+      return skin;
+    }
 
     // The names a file lists in a given entry, read tolerantly (pass one).
     void
@@ -275,6 +325,9 @@ namespace softface
           }
         prm.leave_subsection();
         skin_parameters.parse_parameters(prm, input_directory, patient_skin);
+        if (!skin_parameters.truth_scene.empty())
+          skin_parameters.post_operative_skin =
+            post_operative_skin_of(skin_parameters.truth_scene, out);
         if (!skin_parameters.skin_surface.empty())
           skin = std::make_unique<SkinOutput>(skin_parameters,
                                               scene,

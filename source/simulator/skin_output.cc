@@ -74,8 +74,11 @@ namespace softface
                       "The post-operative skin (.ply or .vtp, registered to "
                       "the pre-operative frame) that the predicted skins are "
                       "measured against (signed closest-point distances, "
-                      "negative where the prediction lies behind it). Empty: "
-                      "no distances.");
+                      "negative where the prediction lies behind it). A .prm "
+                      "file instead: a scene whose run makes it (a phantom's "
+                      "truth: one model, one mapping; its skin_<model>.ply), "
+                      "run first unless its output folder holds the skin made "
+                      "from the same file. Empty: no distances.");
     prm.declare_entry(
       "Mapping",
       "shape functions",
@@ -106,6 +109,13 @@ namespace softface
                       Patterns::Integer(1, 1000),
                       "... and fewer than this many edges away on the skin "
                       "(the seed's y = 5).");
+    prm.declare_entry("Write distances",
+                      "false",
+                      Patterns::Bool(),
+                      "Also write each predicted skin's signed distances to "
+                      "the post-operative skin as skin_<model>_distance.csv "
+                      "(one value per skin point, in the order of "
+                      "skin_preoperative.ply), for scripts.");
     prm.declare_entry("Masked boxes",
                       "",
                       Patterns::Anything(),
@@ -134,7 +144,12 @@ namespace softface
     else
       skin_surface = relative(skin_surface);
     post_operative_skin = relative(prm.get("Post-operative skin"));
-    if (!post_operative_skin.empty() && skin_surface.empty())
+    truth_scene.clear();
+    if (post_operative_skin.size() > 4 &&
+        post_operative_skin.substr(post_operative_skin.size() - 4) == ".prm")
+      std::swap(truth_scene, post_operative_skin);
+    if ((!post_operative_skin.empty() || !truth_scene.empty()) &&
+        skin_surface.empty())
       throw Error("Skin/Post-operative skin: given, but the scene has no "
                   "skin surface to predict (Skin/Skin surface).");
     methods.clear();
@@ -149,9 +164,10 @@ namespace softface
       mesh_skin_boundary_ids.insert(id);
     if (mesh_skin_boundary_ids.empty() && !patient_skin.empty())
       mesh_skin_boundary_ids.insert(Patient::skin_boundary_id);
-    mapping.reach  = prm.get_double("Reach");
-    mapping.radius = prm.get_double("Search radius");
-    mapping.rings  = prm.get_integer("Connectivity rings");
+    mapping.reach   = prm.get_double("Reach");
+    mapping.radius  = prm.get_double("Search radius");
+    mapping.rings   = prm.get_integer("Connectivity rings");
+    write_distances = prm.get_bool("Write distances");
     mask =
       Validation::Mask::parse(prm.get("Masked boxes"), "Skin/Masked boxes");
     prm.leave_subsection();
@@ -168,18 +184,6 @@ namespace softface
     if (!parameters.post_operative_skin.empty())
       post_operative =
         read_skin(parameters.post_operative_skin, "Skin/Post-operative skin");
-    if (!post_operative.points.empty())
-      {
-        // Known before any model runs: a mask that leaves nothing to measure.
-        unsigned int n_measured = 0;
-        for (const Point<3> &p : skin.points)
-          n_measured += !parameters.mask.masked(p);
-        if (n_measured == 0)
-          throw Error("Skin/Masked boxes: the mask leaves no point of the "
-                      "skin to measure (all " +
-                      std::to_string(skin.points.size()) +
-                      " are in masked boxes).");
-      }
     const auto mesh = SurfaceMapping::VolumeMesh::from_triangulation(
       scene.triangulation, parameters.mesh_skin_boundary_ids);
     if (mesh.skin.triangles.empty())
@@ -215,6 +219,20 @@ namespace softface
               << " rings and do not move; widen Skin/Search radius or "
                  "Skin/Connectivity rings."
               << std::endl;
+      }
+    if (!post_operative.points.empty())
+      {
+        // Known before any model runs: a mask that leaves nothing to
+        // measure where the mesh reaches.
+        unsigned int n_measured = 0;
+        for (unsigned int i = 0; i < skin.points.size(); ++i)
+          n_measured +=
+            !parameters.mask.masked(skin.points[i]) && mappings[0].in_reach[i];
+        if (n_measured == 0)
+          throw Error("Skin/Masked boxes: the mask leaves no point of the "
+                      "skin to measure (all " +
+                      std::to_string(skin.points.size()) +
+                      " are in masked boxes or out of the mesh's reach).");
       }
     std::filesystem::create_directories(directory);
     for (const std::string extension : {".ply", ".vtp"})
@@ -266,7 +284,8 @@ namespace softface
               Validation::signed_distances(predicted.points, post_operative);
             row.distances = Validation::statistics(distance_values,
                                                    skin.points,
-                                                   parameters.mask);
+                                                   parameters.mask,
+                                                   mappings[k].in_reach);
             row.measured  = true;
             fields.push_back({"signed distance", 1, distance_values});
           }
@@ -275,6 +294,13 @@ namespace softface
           (parameters.methods.size() > 1 ? "_" + short_name(row.method) : "");
         Patient::write_surface(to_patient(predicted), name + ".ply");
         Patient::write_surface(to_patient(predicted), name + ".vtp", fields);
+        if (parameters.write_distances && !distance_values.empty())
+          {
+            auto csv = open_output_file(name + "_distance.csv");
+            csv << "signed distance mm\n" << std::setprecision(6);
+            for (const double d : distance_values)
+              csv << d << '\n';
+          }
         rows.push_back(row);
       }
   }
@@ -283,7 +309,8 @@ namespace softface
   SkinOutput::write(std::ostream &out) const
   {
     auto csv = open_output_file(directory + "/skin.csv");
-    csv << "model,mapping,skin points,mapped points,step A s,step B s,"
+    csv << "model,mapping,skin points,mapped points,unmoved points,step A s,"
+           "step B s,"
            "max |u| mm,measured points,mean mm,mean |d| mm,variance mm2,"
            "max |d| mm,p50 mm,p90 mm,p95 mm\n";
     csv << std::setprecision(10);
@@ -307,8 +334,8 @@ namespace softface
         const auto &m = mappings[k];
         csv << row.model << ',' << SurfaceMapping::name_of(row.method) << ','
             << m.n_points() << ',' << m.n_points() - m.n_outside << ','
-            << step_a_seconds[k] << ',' << row.step_b_seconds << ','
-            << row.max_displacement;
+            << m.n_without_neighbours << ',' << step_a_seconds[k] << ','
+            << row.step_b_seconds << ',' << row.max_displacement;
         if (row.measured)
           csv << ',' << row.distances.n << ',' << row.distances.mean << ','
               << row.distances.mean_absolute << ',' << row.distances.variance

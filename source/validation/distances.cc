@@ -104,12 +104,13 @@ namespace softface
     Statistics
     statistics(const std::vector<double>   &distances,
                const std::vector<Point<3>> &points,
-               const Mask                  &mask)
+               const Mask                  &mask,
+               const std::vector<bool>     &in_region)
     {
       AssertDimension(distances.size(), points.size());
       std::vector<double> kept, absolute;
       for (unsigned int i = 0; i < distances.size(); ++i)
-        if (!mask.masked(points[i]))
+        if (!mask.masked(points[i]) && (in_region.empty() || in_region[i]))
           {
             kept.push_back(distances[i]);
             absolute.push_back(std::abs(distances[i]));
@@ -117,7 +118,8 @@ namespace softface
       if (kept.empty())
         throw Error("The mask leaves no point of the skin to measure (" +
                     std::to_string(distances.size()) +
-                    " points, all in masked boxes).");
+                    " points, all in masked boxes or out of the mesh's "
+                    "reach).");
       Statistics s;
       s.n = kept.size();
       for (unsigned int i = 0; i < kept.size(); ++i)

@@ -99,6 +99,10 @@ namespace softface
       /// Skin points inside a tetrahedron (the rest project onto the skin).
       unsigned int n_inside = 0;
 
+      /// Whether each skin point is within the reach of the mesh (the
+      /// simulated region); distances are measured only there.
+      std::vector<bool> in_reach;
+
       std::vector<unsigned int> row_start = {0};
       std::vector<unsigned int> vertices;
       std::vector<double>       weights;

@@ -33,8 +33,13 @@ namespace softface
                      const std::string &input_directory,
                      const std::string &patient_skin);
 
-    std::string                         skin_surface; ///< empty: no skin
-    std::string                         post_operative_skin;
+    std::string skin_surface; ///< empty: no skin
+    std::string post_operative_skin;
+    /// A scene whose run makes the post-operative skin (a phantom's truth):
+    /// 'Post-operative skin' names a .prm file.
+    std::string truth_scene;
+    /// Also write each skin's signed distances as CSV (for scripts).
+    bool                                write_distances = false;
     std::set<types::boundary_id>        mesh_skin_boundary_ids;
     std::vector<SurfaceMapping::Method> methods;
     SurfaceMapping::Parameters          mapping;

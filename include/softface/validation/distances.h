@@ -63,13 +63,16 @@ namespace softface
     percentile(std::vector<double> values, const double q);
 
     /**
-     * Statistics of @p distances at the points that @p mask does not remove.
-     * Throws an Error if the mask removes every point.
+     * Statistics of @p distances at the points that @p mask does not remove
+     * and, if @p in_region is not empty, where it is true (the skin the
+     * mesh reaches: outside it nothing was simulated). Throws an Error if no
+     * point is left.
      */
     Statistics
     statistics(const std::vector<double>   &distances,
                const std::vector<Point<3>> &points,
-               const Mask                  &mask);
+               const Mask                  &mask,
+               const std::vector<bool>     &in_region = {});
   } // namespace Validation
 } // namespace softface
 
