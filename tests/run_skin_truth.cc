@@ -1,0 +1,116 @@
+// The skin end to end (run_skin_truth.prm): the post-operative skin is made by
+// a truth scene (run_skin_truth_post.prm: the same cube and planning, linear
+// FEM), run on the first run and reused on the second; linear FEM's
+// predicted skin then lies on it (distance at the solver's precision), and
+// the mass tensor model's is no farther than its displacement differs from
+// linear FEM's on the mesh (a closest point is never farther than the
+// corresponding point; inside a tetrahedron the shape functions are convex
+// weights). The skin is a sphere in the tissue around the cube's bone.
+
+#include <deal.II/base/utilities.h>
+
+#include <softface/simulator/simulator.h>
+
+#include "tests.h"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+using namespace softface;
+
+namespace
+{
+  std::vector<std::map<std::string, std::string>>
+  read_csv(const std::string &filename)
+  {
+    std::ifstream                                   in(filename);
+    std::vector<std::map<std::string, std::string>> rows;
+    std::string                                     line;
+    std::getline(in, line);
+    const auto header = Utilities::split_string_list(line);
+    while (std::getline(in, line))
+      {
+        // Keep empty fields: split on every comma.
+        std::vector<std::string> fields(1);
+        for (const char c : line)
+          if (c == ',')
+            fields.emplace_back();
+          else
+            fields.back() += c;
+        std::map<std::string, std::string> row;
+        for (unsigned int i = 0; i < header.size() && i < fields.size(); ++i)
+          row[header[i]] = fields[i];
+        rows.push_back(row);
+      }
+    return rows;
+  }
+} // namespace
+
+SOFTFACE_TEST(run_skin_truth)
+{
+  std::filesystem::remove_all("run_skin_truth_post_output");
+  for (const std::string pass : {"first", "second"})
+    {
+      Simulator          simulator;
+      std::ostringstream out, err;
+      const int          code =
+        simulator.run(softface_tests::source_file("run_skin_truth.prm"),
+                      out,
+                      err);
+      softface_tests::check_equal(pass + " run: exit code", code, 0);
+      softface_tests::check_equal(pass + " run: the truth scene ran",
+                                  out.str().find("running the truth scene") !=
+                                    std::string::npos,
+                                  pass == "first");
+    }
+
+  double mtm_difference = 0.;
+  for (const auto &row : read_csv("run_skin_truth_output/summary.csv"))
+    if (row.at("model") == "mass tensor")
+      mtm_difference = std::stod(row.at("max_diff_to_reference_mm"));
+  softface_tests::check_above("mass tensor: max |u - u_linear| on the mesh mm",
+                              mtm_difference,
+                              1e-4);
+
+  const auto rows = read_csv("run_skin_truth_output/skin.csv");
+  softface_tests::check_equal("skin.csv rows", rows.size(), 2);
+  for (const auto &row : rows)
+    {
+      const std::string name = row.at("model") + ", " + row.at("mapping");
+      softface_tests::check_equal(name + ": skin points",
+                                  std::stoi(row.at("skin points")),
+                                  2562);
+      softface_tests::check_equal(name + ": mapped points",
+                                  std::stoi(row.at("mapped points")),
+                                  2562);
+      softface_tests::check_equal(name + ": measured points",
+                                  std::stoi(row.at("measured points")),
+                                  2562);
+      const double largest = std::stod(row.at("max |d| mm"));
+      // The post-operative .ply stores single precision: 40 mm x 2^-24.
+      if (row.at("model") == "linear fem")
+        softface_tests::check_below(name + ": max |distance| mm",
+                                    largest,
+                                    1e-5);
+      else
+        {
+          softface_tests::check_below(name +
+                                        ": max |distance| / max |u - u_linear|",
+                                      largest / mtm_difference,
+                                      1.);
+          softface_tests::check_above(name + ": max |distance| mm",
+                                      largest,
+                                      1e-6);
+        }
+    }
+  for (const std::string file : {"skin_preoperative.ply",
+                                 "skin_postoperative.vtp",
+                                 "skin_linear_fem.vtp",
+                                 "skin_mass_tensor.ply"})
+    softface_tests::check_equal("run_skin_truth_output/" + file + " written",
+                                std::filesystem::exists(
+                                  "run_skin_truth_output/" + file),
+                                true);
+}
