@@ -5,7 +5,8 @@
 // the mass tensor model's is no farther than its displacement differs from
 // linear FEM's on the mesh (a closest point is never farther than the
 // corresponding point; inside a tetrahedron the shape functions are convex
-// weights). The skin is a sphere in the tissue around the cube's bone.
+// weights). The same holds for the distances between TPS-RPM
+// correspondences. The skin is a sphere in the tissue around the cube's bone.
 
 #include <deal.II/base/utilities.h>
 
@@ -89,6 +90,20 @@ SOFTFACE_TEST(run_skin_truth)
                                   std::stoi(row.at("measured points")),
                                   2562);
       const double largest = std::stod(row.at("max |d| mm"));
+      // TPS-RPM correspondences (Skin/Correspondence points, 2000).
+      softface_tests::check_equal(name + ": correspondence points",
+                                  std::stoi(row.at("correspondence points")),
+                                  2000);
+      const double corresponding = std::stod(row.at("correspondence max mm"));
+      if (row.at("model") == "linear fem")
+        softface_tests::check_below(name + ": correspondence max mm",
+                                    corresponding,
+                                    1e-5);
+      else
+        softface_tests::check_below(
+          name + ": correspondence max / max |u - u_linear|",
+          corresponding / mtm_difference,
+          1.);
       // The post-operative .ply stores single precision: 40 mm x 2^-24.
       if (row.at("model") == "linear fem")
         softface_tests::check_below(name + ": max |distance| mm",

@@ -11,6 +11,7 @@
 #include <softface/patient/tetrahedral_mesh.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/skin_output.h>
+#include <softface/validation/tps_rpm.h>
 
 #include <filesystem>
 #include <iomanip>
@@ -109,6 +110,15 @@ namespace softface
                       Patterns::Integer(1, 1000),
                       "... and fewer than this many edges away on the skin "
                       "(the seed's y = 5).");
+    prm.declare_entry("Correspondence points",
+                      "2000",
+                      Patterns::Integer(0),
+                      "With a post-operative skin: the distances between "
+                      "corresponding points as well (seed 3.5.1: TPS-RPM, "
+                      "non-rigid matching by deterministic annealing), on at "
+                      "most this many points of each skin (a farthest-point "
+                      "subsample of the measured region). 0: closest-point "
+                      "distances only.");
     prm.declare_entry("Write distances",
                       "false",
                       Patterns::Bool(),
@@ -164,10 +174,11 @@ namespace softface
       mesh_skin_boundary_ids.insert(id);
     if (mesh_skin_boundary_ids.empty() && !patient_skin.empty())
       mesh_skin_boundary_ids.insert(Patient::skin_boundary_id);
-    mapping.reach   = prm.get_double("Reach");
-    mapping.radius  = prm.get_double("Search radius");
-    mapping.rings   = prm.get_integer("Connectivity rings");
-    write_distances = prm.get_bool("Write distances");
+    mapping.reach         = prm.get_double("Reach");
+    mapping.radius        = prm.get_double("Search radius");
+    mapping.rings         = prm.get_integer("Connectivity rings");
+    write_distances       = prm.get_bool("Write distances");
+    correspondence_points = prm.get_integer("Correspondence points");
     mask =
       Validation::Mask::parse(prm.get("Masked boxes"), "Skin/Masked boxes");
     prm.leave_subsection();
@@ -287,6 +298,8 @@ namespace softface
                                                    parameters.mask,
                                                    mappings[k].in_reach);
             row.measured  = true;
+            if (parameters.correspondence_points > 0)
+              correspond(predicted, mappings[k].in_reach, row);
             fields.push_back({"signed distance", 1, distance_values});
           }
         const std::string name =
@@ -306,13 +319,75 @@ namespace softface
   }
 
   void
+  SkinOutput::correspond(const SurfaceMapping::Surface &predicted,
+                         const std::vector<bool>       &in_reach,
+                         Row                           &row) const
+  {
+    Timer timer;
+    // The measured region of the prediction, and the post-operative points
+    // within 10 mm of its bounding box (the rest of the head is far).
+    std::vector<Point<3>> measured;
+    Point<3>              low, high;
+    for (unsigned int i = 0; i < predicted.points.size(); ++i)
+      if (in_reach[i] && !parameters.mask.masked(skin.points[i]))
+        {
+          const Point<3> &p = predicted.points[i];
+          if (measured.empty())
+            low = high = p;
+          for (unsigned int d = 0; d < 3; ++d)
+            {
+              low[d]  = std::min(low[d], p[d] - 10.);
+              high[d] = std::max(high[d], p[d] + 10.);
+            }
+          measured.push_back(p);
+        }
+    std::vector<Point<3>> near;
+    for (const Point<3> &p : post_operative.points)
+      {
+        bool inside = true;
+        for (unsigned int d = 0; d < 3; ++d)
+          inside = inside && p[d] >= low[d] && p[d] <= high[d];
+        if (inside)
+          near.push_back(p);
+      }
+    if (measured.empty() || near.empty())
+      return;
+    const auto subsampled = [&](const std::vector<Point<3>> &points) {
+      Eigen::MatrixX3d all(points.size(), 3);
+      for (unsigned int i = 0; i < points.size(); ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          all(i, d) = points[i][d];
+      const auto rows =
+        Validation::subsample(all, parameters.correspondence_points);
+      Eigen::MatrixX3d m(rows.size(), 3);
+      for (unsigned int i = 0; i < rows.size(); ++i)
+        m.row(i) = all.row(rows[i]);
+      return m;
+    };
+    const Eigen::MatrixX3d source = subsampled(measured);
+    const Eigen::MatrixX3d target = subsampled(near);
+    const auto             result = Validation::tps_rpm(source, target, {});
+    std::vector<double>    distances(result.distance.size());
+    std::vector<Point<3>>  where(result.distance.size());
+    for (unsigned int i = 0; i < distances.size(); ++i)
+      distances[i] = result.distance[i];
+    row.correspondence         = Validation::statistics(distances, where, {});
+    row.corresponded           = true;
+    row.correspondence_points  = source.rows();
+    row.correspondence_seconds = timer.wall_time();
+  }
+
+  void
   SkinOutput::write(std::ostream &out) const
   {
     auto csv = open_output_file(directory + "/skin.csv");
     csv << "model,mapping,skin points,mapped points,unmoved points,step A s,"
            "step B s,"
            "max |u| mm,measured points,mean mm,mean |d| mm,variance mm2,"
-           "max |d| mm,p50 mm,p90 mm,p95 mm\n";
+           "max |d| mm,p50 mm,p90 mm,p95 mm,correspondence points,"
+           "correspondence s,correspondence mean mm,correspondence p50 mm,"
+           "correspondence p90 mm,correspondence p95 mm,"
+           "correspondence max mm\n";
     csv << std::setprecision(10);
     out << "\nSkin (" << skin.points.size() << " points"
         << (post_operative.points.empty() ? "" :
@@ -325,6 +400,8 @@ namespace softface
     if (!post_operative.points.empty())
       out << std::setw(9) << "mean" << std::setw(9) << "p50" << std::setw(9)
           << "p90" << std::setw(9) << "p95" << std::setw(9) << "max";
+    if (!post_operative.points.empty() && parameters.correspondence_points > 0)
+      out << std::setw(14) << "corr. p50" << std::setw(10) << "corr. p90";
     out << '\n';
     for (const Row &row : rows)
       {
@@ -343,6 +420,14 @@ namespace softface
               << ',' << row.distances.p90 << ',' << row.distances.p95;
         else
           csv << ",,,,,,,,";
+        if (row.corresponded)
+          csv << ',' << row.correspondence_points << ','
+              << row.correspondence_seconds << ',' << row.correspondence.mean
+              << ',' << row.correspondence.p50 << ',' << row.correspondence.p90
+              << ',' << row.correspondence.p95 << ','
+              << row.correspondence.max_absolute;
+        else
+          csv << ",,,,,,,";
         csv << '\n';
         out << std::left << std::setw(16) << row.model << std::setw(18)
             << SurfaceMapping::name_of(row.method) << std::right << std::fixed
@@ -354,6 +439,9 @@ namespace softface
               << row.distances.p50 << std::setw(9) << row.distances.p90
               << std::setw(9) << row.distances.p95 << std::setw(9)
               << row.distances.max_absolute;
+        if (row.corresponded)
+          out << std::setw(14) << row.correspondence.p50 << std::setw(10)
+              << row.correspondence.p90;
         out << '\n';
       }
   }

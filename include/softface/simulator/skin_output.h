@@ -38,6 +38,8 @@ namespace softface
     /// A scene whose run makes the post-operative skin (a phantom's truth):
     /// 'Post-operative skin' names a .prm file.
     std::string truth_scene;
+    /// TPS-RPM correspondences on at most this many points (0: none).
+    unsigned int correspondence_points = 2000;
     /// Also write each skin's signed distances as CSV (for scripts).
     bool                                write_distances = false;
     std::set<types::boundary_id>        mesh_skin_boundary_ids;
@@ -81,7 +83,19 @@ namespace softface
       double                 max_displacement = 0.;
       bool                   measured         = false;
       Validation::Statistics distances;
+      /// Distances between TPS-RPM correspondences (seed 3.5.1).
+      bool                   corresponded = false;
+      Validation::Statistics correspondence;
+      unsigned int           correspondence_points  = 0;
+      double                 correspondence_seconds = 0.;
     };
+
+    /// TPS-RPM between the measured region of @p predicted and the
+    /// post-operative points near it; fills the row's correspondence.
+    void
+    correspond(const SurfaceMapping::Surface &predicted,
+               const std::vector<bool>       &in_reach,
+               Row                           &row) const;
 
     const SkinParameters                    &parameters;
     std::string                              directory;
