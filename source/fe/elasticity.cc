@@ -162,7 +162,8 @@ namespace softface
              const Vector<double>             &u,
              Vector<double>                   &forces,
              SparseMatrix<double>             *tangent,
-             const std::vector<bool>          *may_skip_cell)
+             const std::vector<bool>          *may_skip_cell,
+             unsigned int                     *refused_cell)
     {
       const FiniteElement<3>              &fe = dof_handler.get_fe();
       FEValues<3>                          fe_values(mapping,
@@ -215,7 +216,11 @@ namespace softface
                 {
                   if (may_skip_cell == nullptr ||
                       !(*may_skip_cell)[cell->active_cell_index()])
-                    return false;
+                    {
+                      if (refused_cell != nullptr)
+                        *refused_cell = cell->active_cell_index();
+                      return false;
+                    }
                   refused = true;
                   continue;
                 }

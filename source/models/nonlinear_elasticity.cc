@@ -7,6 +7,10 @@
 #include <softface/fe/constrained_system.h>
 #include <softface/models/nonlinear_elasticity.h>
 
+#include <iterator>
+#include <set>
+#include <sstream>
+
 namespace softface
 {
   namespace Models
@@ -173,6 +177,28 @@ namespace softface
       add_detail("linear iterations", last_report.linear_iterations);
       if (solver_parameters.method != "direct")
         add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    std::string
+    NonlinearElasticity::describe_cell(const unsigned int cell_index) const
+    {
+      std::ostringstream where;
+      const auto         cell =
+        std::next(scene->triangulation.begin_active(), cell_index);
+      std::set<std::string> touched;
+      const auto           &segment_of = scene->vertex_segment();
+      for (const unsigned int v : cell->vertex_indices())
+        if (segment_of[cell->vertex_index(v)] < scene->segments.size())
+          touched.insert(
+            scene->segments[segment_of[cell->vertex_index(v)]].name);
+      where << " (cell " << cell_index << " at (" << cell->center()
+            << "), join points of";
+      if (touched.empty())
+        where << " no segment";
+      for (const auto &name : touched)
+        where << " '" << name << "'";
+      where << ")";
+      return where.str();
     }
 
     const std::string &

@@ -6,8 +6,6 @@
 #include <softface/fe/elasticity.h>
 #include <softface/models/nonlinear_fem.h>
 
-#include <set>
-#include <sstream>
 
 namespace softface
 {
@@ -131,23 +129,7 @@ namespace softface
               // the tissue's doing, and it is left out.
               if (!cell_has_free_vertex[c])
                 continue;
-              // Say where: the cell, its centroid in the reference frame
-              // and the segments its join points belong to.
-              std::ostringstream where;
-              const auto         cell =
-                std::next(scene->triangulation.begin_active(), c);
-              std::set<std::string> touched;
-              const auto           &segment_of = scene->vertex_segment();
-              for (const unsigned int v : cell->vertex_indices())
-                if (segment_of[cell->vertex_index(v)] < scene->segments.size())
-                  touched.insert(
-                    scene->segments[segment_of[cell->vertex_index(v)]].name);
-              where << " (cell " << c << " at (" << cell->center()
-                    << "), join points of";
-              for (const auto &name : touched)
-                where << " '" << name << "'";
-              where << ")";
-              refusal = where.str();
+              refusal = describe_cell(c);
               return false;
             }
           for (unsigned int a = 0; a < 4; ++a)

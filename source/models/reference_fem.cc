@@ -116,6 +116,27 @@ namespace softface
                   }
         }
 
+      // A cell whose four vertices are join points is carried by the bones
+      // whole, as on the P1 layout: its edge and face DoFs follow the
+      // vertices too. Otherwise a tetrahedron spanning the kerf of an
+      // osteotomy or the gap between the teeth (vertices on two segments)
+      // keeps free mid-edge DoFs but no freedom to avoid the shape the
+      // planning forces on it, and the solve stops where the planning
+      // crushes it, which the P1 models pass.
+      for (const auto &cell : dof_handler->active_cell_iterators())
+        {
+          bool vertices_join = true;
+          for (const unsigned int a : cell->vertex_indices())
+            vertices_join &=
+              scene
+                ->join_dofs()[scene->vertex_dofs()[cell->vertex_index(a)][0]];
+          if (!vertices_join)
+            continue;
+          cell->get_dof_indices(dofs);
+          for (const auto i : dofs)
+            is_join[i] = true;
+        }
+
       all_join_cell.assign(scene->triangulation.n_active_cells(), false);
       for (const auto &cell : dof_handler->active_cell_iterators())
         {
@@ -154,16 +175,21 @@ namespace softface
     {
       // A 3-point-per-direction rule: exact for the quadratic element's
       // linear stiffness and accurate for its nonlinear terms.
-      return Elasticity::assemble(law,
-                                  tissue_lame,
-                                  scene->effects.tissue_of_cell,
-                                  scene->mapping,
-                                  *dof_handler,
-                                  QGaussSimplex<3>(3),
-                                  u,
-                                  forces,
-                                  tangent,
-                                  &all_join_cell);
+      unsigned int refused_cell = 0;
+      const bool   valid        = Elasticity::assemble(law,
+                                              tissue_lame,
+                                              scene->effects.tissue_of_cell,
+                                              scene->mapping,
+                                              *dof_handler,
+                                              QGaussSimplex<3>(3),
+                                              u,
+                                              forces,
+                                              tangent,
+                                              &all_join_cell,
+                                              &refused_cell);
+      if (!valid)
+        refusal = describe_cell(refused_cell);
+      return valid;
     }
 
     void

@@ -101,7 +101,8 @@ namespace softface
      * @p tissue_of_cell is empty). Returns false if the law refuses F at a
      * quadrature point, unless @p may_skip_cell marks the cell (by active
      * cell index): such a cell is then left out (a cell of prescribed DoFs
-     * only, crushed by the planning).
+     * only, crushed by the planning). On a refusal, @p refused_cell (if not
+     * null) is set to the refused cell's active cell index.
      */
     bool
     assemble(const MaterialLaw::Law            law,
@@ -113,7 +114,8 @@ namespace softface
              const Vector<double>             &u,
              Vector<double>                   &forces,
              SparseMatrix<double>             *tangent,
-             const std::vector<bool>          *may_skip_cell = nullptr);
+             const std::vector<bool>          *may_skip_cell = nullptr,
+             unsigned int                     *refused_cell  = nullptr);
   } // namespace Elasticity
 } // namespace softface
 

@@ -105,6 +105,11 @@ namespace softface
       std::vector<unsigned int> dof_component;
       /// Set by evaluate() when it refuses a state.
       mutable std::string refusal;
+      /// " (cell N at (x, y, z), join points of 'a' 'b')": where a refused
+      /// cell (active cell index of the scene's mesh) is and which
+      /// segments' join points it has.
+      std::string
+      describe_cell(const unsigned int cell_index) const;
       /// External nodal forces on the model's layout (gravity), applied in
       /// the load steps with the join motion; none if null.
       const Vector<double> *body_force = nullptr;
