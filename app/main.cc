@@ -31,6 +31,8 @@ main(int argc, char **argv)
     "(parts moved by the Planning)\n"
     "       softface plan SCENE.prm       the Planning recovered from a "
     "post-operative skull by ICP\n"
+    "       softface register SCENE.prm   a post-operative CT registered to "
+    "the pre-operative one\n"
     "       softface --print-parameters   print every parameter with its "
     "default and documentation\n"
     "       softface --help\n";
@@ -40,7 +42,7 @@ main(int argc, char **argv)
         {
           const std::string stage = argv[1];
           if (stage != "phantom" && stage != "segment" && stage != "mesh" &&
-              stage != "postop" && stage != "plan")
+              stage != "postop" && stage != "plan" && stage != "register")
             {
               std::cerr << usage;
               return 2;

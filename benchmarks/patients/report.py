@@ -60,7 +60,8 @@ def main(work, results):
     rows = []
     for name in SEED:
         d = os.path.join(work, name)
-        if not os.path.isdir(d):
+        # A patient whose run was stopped has no exit code: not reported.
+        if not os.path.exists(os.path.join(d, "exit_code")):
             continue
         runs = {m: summary.row(os.path.join(d, "summary.csv"), m)
                 for m in MODELS}

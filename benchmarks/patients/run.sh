@@ -8,6 +8,9 @@
 #   benchmarks/patients/run.sh            all ten (about 15 min, plus about
 #                                         an hour for their truths the first time)
 #   benchmarks/patients/run.sh P4 P5      some of them
+#   benchmarks/patients/run.sh --no-truth P8
+#                                         without the post-operative truth
+#                                         (Table 2 only: no skin distances)
 #   benchmarks/patients/run.sh --report-only
 #
 # Needs a built build/softface and Debian's python3-numpy, python3-matplotlib.
@@ -31,11 +34,13 @@ fi
 
 patients=()
 report_only=0
+no_truth=0
 for a in "$@"; do
   case "$a" in
     --report-only) report_only=1 ;;
+    --no-truth) no_truth=1 ;;
     P*) patients+=("$a") ;;
-    *) echo "usage: $0 [--report-only] [P1 ... P10]"; exit 2 ;;
+    *) echo "usage: $0 [--report-only] [--no-truth] [P1 ... P10]"; exit 2 ;;
   esac
 done
 [ ${#patients[@]} -eq 0 ] && patients=(P1 P2 P3 P4 P5 P6 P7 P8 P9 P10)
@@ -54,8 +59,10 @@ if [ $report_only -eq 0 ]; then
       "prm/patients/${p}_truth.prm" > "$truth/scene.tmp"
     cmp -s "$truth/scene.tmp" "$truth/scene.prm" || mv "$truth/scene.tmp" "$truth/scene.prm"
     rm -f "$truth/scene.tmp"
+    post="$root/$truth/scene.prm"
+    [ $no_truth -eq 1 ] && post=""
     sed -e "s|set Output directory = .*|set Output directory = $root/$out|" \
-      -e "s|set Post-operative skin = .*|set Post-operative skin = $root/$truth/scene.prm|" \
+      -e "s|set Post-operative skin = .*|set Post-operative skin = $post|" \
       "prm/patients/$p.prm" > "$out/scene.prm"
     # The signed distances per skin point, for the distance maps.
     printf 'subsection Skin\n  set Write distances = true\nend\n' >> "$out/scene.prm"

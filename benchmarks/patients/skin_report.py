@@ -106,6 +106,11 @@ def sections(work, results, patients):
     data = {p: rows for p, rows in data.items() if rows}
     if not data:
         return []
+    # Patients run without a post-operative skin (run.sh --no-truth) or
+    # whose truth failed have no distances.
+    without = [p for p in patients
+               if p not in data or not any(r.get("p50 mm") for r in data[p])]
+    data = {p: rows for p, rows in data.items() if p not in without}
 
     def row_of(p, model, method):
         for r in data[p]:
@@ -143,6 +148,12 @@ def sections(work, results, patients):
           "planning error, tissue layers, large strain, discretisation), "
           "not the distance to a real patient; the seed's numbers come from "
           "real post-operative CTs.\n"]
+
+    if without:
+        md.append("**Patients without distances:** " + ", ".join(without) +
+                  ". Their post-operative truth was not made (`doc/skin.md`, "
+                  "'Patients without a truth'); their predictions are in "
+                  "Table 2.\n")
 
     # Table 3 analogue.
     md.append("### Table 3: percentiles averaged over the patients\n")

@@ -13,6 +13,8 @@
 #include <softface/fe/elasticity.h>
 #include <softface/models/reference_fem.h>
 
+#include <set>
+
 namespace softface
 {
   namespace Models
@@ -116,21 +118,25 @@ namespace softface
                   }
         }
 
-      // A cell whose four vertices are join points is carried by the bones
-      // whole, as on the P1 layout: its edge and face DoFs follow the
-      // vertices too. Otherwise a tetrahedron spanning the kerf of an
-      // osteotomy or the gap between the teeth (vertices on two segments)
-      // keeps free mid-edge DoFs but no freedom to avoid the shape the
-      // planning forces on it, and the solve stops where the planning
-      // crushes it, which the P1 models pass.
+      // A cell whose four vertices are join points of two or more segments
+      // (across the kerf of an osteotomy, between the teeth) is carried by
+      // the bones whole, as on the P1 layout: its edge and face DoFs follow
+      // the vertices too. Otherwise it keeps free mid-edge DoFs but no
+      // freedom to avoid the shape the bones' relative motion forces on it,
+      // and the solve stops where the planning crushes it, which the P1
+      // models pass. A cell on one segment only moves with it rigidly and
+      // keeps its free DoFs.
       for (const auto &cell : dof_handler->active_cell_iterators())
         {
-          bool vertices_join = true;
+          std::set<unsigned int> segments_of_vertices;
+          bool                   vertices_join = true;
           for (const unsigned int a : cell->vertex_indices())
-            vertices_join &=
-              scene
-                ->join_dofs()[scene->vertex_dofs()[cell->vertex_index(a)][0]];
-          if (!vertices_join)
+            {
+              const unsigned int v = cell->vertex_index(a);
+              vertices_join &= scene->join_dofs()[scene->vertex_dofs()[v][0]];
+              segments_of_vertices.insert(scene->vertex_segment()[v]);
+            }
+          if (!vertices_join || segments_of_vertices.size() < 2)
             continue;
           cell->get_dof_indices(dofs);
           for (const auto i : dofs)

@@ -2,13 +2,17 @@
 // CT (phantom or file) -> segmentation and surfaces -> bone parts and the
 // tetrahedral mesh, each leaving files the next reads, skipped when its
 // inputs have not changed. Scene calls it for 'Mesh source = patient'; the
-// subcommands phantom, segment and mesh stop after their stage.
+// subcommands phantom, segment and mesh stop after their stage. At the end,
+// the subcommand register (Mollemans et al. 2007, 3.5.1): a post-operative
+// CT rigidly registered to the pre-operative one, and the post-operative
+// surfaces carried into the pre-operative frame with it.
 
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
 #include <softface/patient/image_io.h>
 #include <softface/patient/pipeline.h>
+#include <softface/patient/registration.h>
 #include <softface/patient/surface.h>
 #include <softface/patient/vec3_parameter.h>
 
@@ -16,6 +20,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <set>
 #include <sstream>
 
 namespace softface
@@ -265,6 +270,7 @@ namespace softface
       prm.leave_subsection();
 
       OsteotomyParameters::declare_parameters(prm, cut_names);
+      RegistrationStageParameters::declare_parameters(prm);
       prm.leave_subsection();
     }
 
@@ -348,6 +354,7 @@ namespace softface
       prm.leave_subsection();
 
       osteotomy.parse_parameters(prm);
+      registration.parse_parameters(prm, input_directory);
       prm.leave_subsection();
     }
 
@@ -728,6 +735,335 @@ namespace softface
                         "' is not one of the scene's bone segments.");
         }
       return model;
+    }
+
+
+    // Registration of a post-operative CT ('softface register').
+
+    void
+    RegistrationStageParameters::declare_parameters(ParameterHandler &prm)
+    {
+      const RegistrationParameters defaults;
+      const auto                   join = [](const auto &values) {
+        std::ostringstream s;
+        for (std::size_t i = 0; i < values.size(); ++i)
+          s << (i > 0 ? ", " : "") << values[i];
+        return s.str();
+      };
+      prm.enter_subsection("Registration");
+      prm.declare_entry("Post-operative CT",
+                        "",
+                        Patterns::Anything(),
+                        "The post-operative CT that 'softface register' "
+                        "registers rigidly to the pre-operative one ('CT "
+                        "volume', or the phantom's): a volume file or a "
+                        "folder with a DICOM series, as 'CT volume'. Relative "
+                        "to the parameter file's folder. Empty: none.");
+      prm.declare_entry("Post-operative surfaces",
+                        "",
+                        Patterns::Anything(),
+                        "Surfaces made from the post-operative CT (.ply or "
+                        ".vtp, comma-separated, in its frame), each written "
+                        "carried into the pre-operative frame as "
+                        "<name>_registered.ply in the output directory: the "
+                        "registered post-operative skin is what "
+                        "'Skin/Post-operative skin' takes.");
+      prm.declare_entry("Subvolume",
+                        "",
+                        Patterns::Anything(),
+                        "The part of the head the surgery leaves unaltered "
+                        "(typically the top of the skull, above the orbits), "
+                        "'x0, y0, z0; x1, y1, z1' in the pre-operative CT's "
+                        "frame (mm): the metric sees only the voxels whose "
+                        "centres lie in it (the box may reach past the CT). "
+                        "Empty: the whole pre-operative CT.");
+      prm.declare_entry("Restriction",
+                        "crop",
+                        Patterns::Selection("crop|mask"),
+                        "How the metric is kept to the subvolume: 'crop' "
+                        "the pre-operative CT to it, or 'mask' the whole CT "
+                        "(about 1.5 times slower; on the phantom both "
+                        "recover the motion to 0.1 mm).");
+      prm.declare_entry("Initializer",
+                        "identity",
+                        Patterns::Selection("identity|geometry|moments"),
+                        "Where the search starts: 'identity' (no motion: "
+                        "the two scans' frames roughly agree), 'geometry' "
+                        "(the centres of the two fields of view matched) or "
+                        "'moments' (the centres of mass, HU + 1000, "
+                        "matched). No rotation in any case.");
+      prm.declare_entry("Histogram bins",
+                        std::to_string(defaults.histogram_bins),
+                        Patterns::Integer(5),
+                        "Bins of Mattes mutual information's joint "
+                        "histogram.");
+      prm.declare_entry("Samples",
+                        std::to_string(defaults.samples),
+                        Patterns::Integer(0),
+                        "At most this many sample points per level (every "
+                        "k-th voxel of the subvolume, jittered by a third of "
+                        "a voxel); 0: every voxel.");
+      prm.declare_entry("Seed",
+                        std::to_string(defaults.seed),
+                        Patterns::Integer(0),
+                        "Seed of the samples' jitter: the same seed, the "
+                        "same result.");
+      prm.declare_entry("Shrink factors",
+                        join(defaults.shrink_factors),
+                        Patterns::List(Patterns::Integer(1)),
+                        "The multi-resolution schedule, coarse to fine: each "
+                        "level's voxels are this many of the CTs' (the "
+                        "subvolume must hold 4 coarsest voxels across).");
+      prm.declare_entry("Smoothing sigmas",
+                        join(defaults.smoothing_sigmas),
+                        Patterns::List(Patterns::Double(0.)),
+                        "Gaussian smoothing (mm) of each level, one per "
+                        "shrink factor.");
+      prm.declare_entry("Optimizer",
+                        "regular step",
+                        Patterns::Selection("regular step|conjugate gradient"),
+                        "'regular step' gradient descent, or 'conjugate "
+                        "gradient' (Polak-Ribiere) with a golden-section line "
+                        "search (3 times slower on the phantom, no more "
+                        "accurate); both on parameters scaled by the "
+                        "physical shift each causes.");
+      prm.declare_entry("Learning rate",
+                        number(defaults.learning_rate),
+                        Patterns::Double(0.),
+                        "The first step (about mm) of the first level; a "
+                        "later level's is this times its shrink factor over "
+                        "the first level's. Conjugate gradient: the largest "
+                        "motion (mm) of a voxel in its first step.");
+      prm.declare_entry("Minimum step",
+                        number(defaults.minimum_step),
+                        Patterns::Double(0.),
+                        "Regular step: a level ends when its step, relaxed "
+                        "at every change of direction, falls below this "
+                        "(about mm).");
+      prm.declare_entry("Relaxation",
+                        number(defaults.relaxation),
+                        Patterns::Double(0., 1.),
+                        "Regular step: the step times this at every change "
+                        "of direction.");
+      prm.declare_entry("Convergence",
+                        number(defaults.convergence),
+                        Patterns::Double(0.),
+                        "Conjugate gradient: a level ends when the metric's "
+                        "trend over the convergence window falls below "
+                        "this.");
+      prm.declare_entry("Convergence window",
+                        std::to_string(defaults.convergence_window),
+                        Patterns::Integer(1),
+                        "Conjugate gradient: iterations of that trend.");
+      prm.declare_entry("Maximum iterations",
+                        std::to_string(defaults.max_iterations),
+                        Patterns::Integer(1),
+                        "At most this many iterations per level.");
+      prm.declare_entry("Threads",
+                        std::to_string(defaults.threads),
+                        Patterns::Integer(1),
+                        "Threads of the metric. With one the result is the "
+                        "same to the last digit from run to run; with more, "
+                        "ITK sums the metric's derivative in the order the "
+                        "threads finish and the last digits vary.");
+      prm.leave_subsection();
+    }
+
+    void
+    RegistrationStageParameters::parse_parameters(
+      ParameterHandler  &prm,
+      const std::string &input_directory)
+    {
+      const std::string where = "Scene/Patient/Registration/";
+      prm.enter_subsection("Registration");
+      post_operative_ct =
+        resolve(prm.get("Post-operative CT"), input_directory);
+      post_operative_surfaces.clear();
+      for (const auto &file : dealii::Utilities::split_string_list(
+             prm.get("Post-operative surfaces")))
+        post_operative_surfaces.push_back(resolve(file, input_directory));
+
+      using R = RegistrationParameters;
+      auto &r = registration;
+      r.subvolume.reset();
+      if (!prm.get("Subvolume").empty())
+        r.subvolume = parse_box(prm.get("Subvolume"), where + "Subvolume");
+      r.restriction = prm.get("Restriction") == "mask" ? R::Restriction::mask :
+                                                         R::Restriction::crop;
+      r.initializer = R::Initializer::identity;
+      if (prm.get("Initializer") == "geometry")
+        r.initializer = R::Initializer::geometry;
+      else if (prm.get("Initializer") == "moments")
+        r.initializer = R::Initializer::moments;
+
+      r.histogram_bins = prm.get_integer("Histogram bins");
+      r.samples        = prm.get_integer("Samples");
+      r.seed           = prm.get_integer("Seed");
+      r.shrink_factors.clear();
+      for (const auto &f :
+           dealii::Utilities::split_string_list(prm.get("Shrink factors")))
+        r.shrink_factors.push_back(dealii::Utilities::string_to_int(f));
+      r.smoothing_sigmas.clear();
+      for (const auto &s :
+           dealii::Utilities::split_string_list(prm.get("Smoothing sigmas")))
+        r.smoothing_sigmas.push_back(dealii::Utilities::string_to_double(s));
+      if (r.shrink_factors.empty() ||
+          r.shrink_factors.size() != r.smoothing_sigmas.size())
+        throw Error(where + "Smoothing sigmas: one per shrink factor (" +
+                    std::to_string(r.shrink_factors.size()) +
+                    " shrink factors, " +
+                    std::to_string(r.smoothing_sigmas.size()) + " sigmas).");
+
+      r.optimizer          = prm.get("Optimizer") == "conjugate gradient" ?
+                               R::Optimizer::conjugate_gradient :
+                               R::Optimizer::regular_step;
+      r.learning_rate      = prm.get_double("Learning rate");
+      r.minimum_step       = prm.get_double("Minimum step");
+      r.relaxation         = prm.get_double("Relaxation");
+      r.convergence        = prm.get_double("Convergence");
+      r.convergence_window = prm.get_integer("Convergence window");
+      r.max_iterations     = prm.get_integer("Maximum iterations");
+      r.threads            = prm.get_integer("Threads");
+      prm.leave_subsection();
+    }
+
+    void
+    register_post_operative(const PatientParameters &prm,
+                            const std::string       &output_directory,
+                            std::ostream            &out)
+    {
+      const auto       &stage = prm.registration;
+      const std::string where = "Scene/Patient/Registration/";
+      StageClock        clock;
+
+      // What is missing or unreadable ends the run before the
+      // pre-operative CT is made and the registration runs.
+      if (stage.post_operative_ct.empty())
+        throw Error(where +
+                    "Post-operative CT: empty, but 'softface register' "
+                    "needs the post-operative CT (a volume file or a DICOM "
+                    "folder) to register to the pre-operative one" +
+                    (prm.ct_volume.empty() ?
+                       std::string(" (here the phantom's; softface makes no "
+                                   "post-operative CT)") :
+                       std::string(" ('CT volume')")) +
+                    ".");
+      CTVolume post;
+      try
+        {
+          post = read_ct(stage.post_operative_ct);
+        }
+      catch (const Error &e)
+        {
+          throw Error(where + "Post-operative CT: " + e.what());
+        }
+      // Each surface under the name it is written with.
+      std::vector<std::pair<std::string, TriangleSurface>> surfaces;
+      std::set<std::string>                                names;
+      for (const auto &file : stage.post_operative_surfaces)
+        {
+          const std::string name =
+            fs::path(file).stem().string() + "_registered.ply";
+          if (!names.insert(name).second)
+            throw Error(where +
+                        "Post-operative surfaces: two surfaces "
+                        "would be written as " +
+                        name + "; give them different names.");
+          try
+            {
+              surfaces.emplace_back(name, read_surface(file));
+            }
+          catch (const Error &e)
+            {
+              throw Error(where + "Post-operative surfaces: " + e.what());
+            }
+        }
+
+      // The pre-operative CT: the patient's file, or the phantom's.
+      CTVolume pre;
+      if (prm.ct_volume.empty())
+        {
+          build_patient_model(prm, {}, Stage::phantom, out);
+          pre = read_ct((fs::path(prm.work_directory) / "ct.nii.gz").string());
+        }
+      else
+        {
+          try
+            {
+              pre = read_ct(prm.ct_volume);
+            }
+          catch (const Error &e)
+            {
+              throw Error(std::string("Scene/Patient/CT volume: ") + e.what());
+            }
+        }
+      const auto size = [](const CTVolume &ct) {
+        return std::to_string(ct.size[0]) + " x " + std::to_string(ct.size[1]) +
+               " x " + std::to_string(ct.size[2]) + " voxels of " +
+               number(ct.spacing[0]) + " x " + number(ct.spacing[1]) + " x " +
+               number(ct.spacing[2]) + " mm";
+      };
+      out << "    pre-operative CT: " << size(pre) << '\n'
+          << "    post-operative CT " << stage.post_operative_ct << ": "
+          << size(post) << std::endl;
+
+      StageClock               registration_clock;
+      const RegistrationResult r =
+        register_rigid(pre, post, stage.registration);
+      const double registration_seconds = registration_clock.seconds();
+      const auto  &s                    = r.subvolume;
+      out << "    subvolume: " << r.subvolume_voxels[0] << " x "
+          << r.subvolume_voxels[1] << " x " << r.subvolume_voxels[2]
+          << " voxels, centres in [" << s.lower[0] << ", " << s.upper[0]
+          << "] x [" << s.lower[1] << ", " << s.upper[1] << "] x ["
+          << s.lower[2] << ", " << s.upper[2] << "] mm ("
+          << (stage.registration.restriction ==
+                  RegistrationParameters::Restriction::crop ?
+                "cropped" :
+                "masked")
+          << ")\n";
+      for (std::size_t l = 0; l < r.levels.size(); ++l)
+        out << "    level " << l + 1 << " (shrink " << r.levels[l].shrink_factor
+            << ", sigma " << r.levels[l].smoothing_sigma << " mm, first step "
+            << number(r.levels[l].learning_rate)
+            << "): " << r.levels[l].iterations << " iterations, metric "
+            << number(r.levels[l].metric, 6) << " (" << r.levels[l].stop
+            << ")\n";
+      const auto &t    = r.post_to_pre.translation;
+      const Vec3  axis = r.post_to_pre.axis();
+      out << "  post-operative to pre-operative frame: rotation "
+          << number(r.angle_degrees, 4) << " degrees about ("
+          << number(axis[0], 3) << ", " << number(axis[1], 3) << ", "
+          << number(axis[2], 3) << "), translation (" << number(t[0], 4) << ", "
+          << number(t[1], 4) << ", " << number(t[2], 4) << ") mm, metric "
+          << number(r.metric, 6) << " (" << std::fixed << std::setprecision(1)
+          << registration_seconds << " s)" << std::defaultfloat << std::endl;
+
+      // The files, each complete or not at all.
+      const fs::path directory(output_directory);
+      fs::create_directories(directory);
+      write_atomically(directory / "registration.csv",
+                       [&](const std::string &f) {
+                         std::ofstream file(f);
+                         file << registration_table(r);
+                         if (!file)
+                           throw Error("Cannot write " + f + ".");
+                       });
+      write_atomically(directory / "postop_ct_registered.nii.gz",
+                       [&](const std::string &f) {
+                         write_volume(resample(post, r.post_to_pre, pre), f);
+                       });
+      std::string files = "registration.csv, postop_ct_registered.nii.gz";
+      for (const auto &[name, surface] : surfaces)
+        {
+          write_atomically(directory / name, [&](const std::string &f) {
+            write_surface(transform_surface(surface, r.post_to_pre), f);
+          });
+          files += ", " + name;
+        }
+      out << "Files in " << output_directory << "/ (" << files << "; wall time "
+          << std::fixed << std::setprecision(1) << clock.seconds() << " s)"
+          << std::defaultfloat << std::endl;
     }
   } // namespace Patient
 } // namespace softface

@@ -519,6 +519,11 @@ namespace softface
 
     out << "softface " << stage << ": " << filename << std::endl;
     Timer wall;
+    if (stage == "register")
+      {
+        Patient::register_post_operative(patient, output.directory, out);
+        return 0;
+      }
     if (stage == "postop" || stage == "plan")
       return plan_from_skull(prm, filename, stage, patient, seeds, out);
     const auto model =

@@ -5,6 +5,7 @@
 
 #include <softface/patient/osteotomy.h>
 #include <softface/patient/phantom.h>
+#include <softface/patient/registration.h>
 #include <softface/patient/segmentation.h>
 #include <softface/patient/tetrahedral_mesh.h>
 
@@ -18,9 +19,30 @@ namespace softface
   namespace Patient
   {
     /**
+     * Subsection Scene/Patient/Registration, for 'softface register': the
+     * post-operative CT, the surfaces made from it, and how it is registered
+     * to the pre-operative CT (Mollemans et al. 2007, 3.5.1).
+     */
+    struct RegistrationStageParameters
+    {
+      /// Subsection "Registration" (the handler is inside "Patient").
+      static void
+      declare_parameters(dealii::ParameterHandler &prm);
+      /// Relative files are taken from @p input_directory.
+      void
+      parse_parameters(dealii::ParameterHandler &prm,
+                       const std::string        &input_directory);
+
+      std::string              post_operative_ct; ///< empty: none
+      std::vector<std::string> post_operative_surfaces;
+      RegistrationParameters   registration;
+    };
+
+    /**
      * Everything of subsection Scene/Patient: where the CT comes from (a
      * file, a DICOM folder, or the phantom), the segmentation, the region of
-     * interest, the tetrahedral mesh and the osteotomies.
+     * interest, the tetrahedral mesh, the osteotomies, and the registration
+     * of a post-operative CT.
      */
     struct PatientParameters
     {
@@ -38,17 +60,18 @@ namespace softface
                        const std::string        &input_directory,
                        const std::string        &default_work_directory);
 
-      std::string               ct_volume;    ///< empty: the phantom
-      std::string               label_volume; ///< empty: segment the CT
-      std::string               work_directory;
-      bool                      reuse = true;
-      std::string               cut_held_by;
-      std::string               post_operative_skull;
-      PhantomParameters         phantom;
-      SegmentationParameters    segmentation;
-      RegionOfInterest          roi;
-      TetrahedralMeshParameters mesh;
-      OsteotomyParameters       osteotomy;
+      std::string                 ct_volume;    ///< empty: the phantom
+      std::string                 label_volume; ///< empty: segment the CT
+      std::string                 work_directory;
+      bool                        reuse = true;
+      std::string                 cut_held_by;
+      std::string                 post_operative_skull;
+      PhantomParameters           phantom;
+      SegmentationParameters      segmentation;
+      RegionOfInterest            roi;
+      TetrahedralMeshParameters   mesh;
+      OsteotomyParameters         osteotomy;
+      RegistrationStageParameters registration;
     };
 
     /// What the stages made: the mesh file a Scene reads, and figures.
@@ -88,6 +111,23 @@ namespace softface
                         const std::vector<SegmentSeed> &segments,
                         const Stage                     last_stage,
                         std::ostream                   &log);
+
+    /**
+     * 'softface register': the post-operative CT of subsection Registration
+     * registered rigidly to the pre-operative CT (the file of 'CT volume',
+     * or the phantom's, made or reused by the phantom stage) by mutual
+     * information on the subvolume (register_rigid). Writes into
+     * @p output_directory registration.csv (registration_table), the
+     * post-operative CT resampled on the pre-operative grid
+     * (postop_ct_registered.nii.gz) and each post-operative surface carried
+     * into the pre-operative frame (<name>_registered.ply); the result and
+     * the files go to @p out. A scene without a post-operative CT, a file
+     * that cannot be read or a registration that fails is an Error.
+     */
+    void
+    register_post_operative(const PatientParameters &parameters,
+                            const std::string       &output_directory,
+                            std::ostream            &out);
   } // namespace Patient
 } // namespace softface
 

@@ -65,8 +65,12 @@ namespace softface
      * writing their files into the patient work directory; or, after them,
      * "postop" (a post-operative skull: each bone part moved by the scene's
      * Planning) or "plan" (each bone part registered to the post-operative
-     * skull by ICP from the scene's Planning, written as planning.prm).
-     * Returns the process exit code.
+     * skull by ICP from the scene's Planning, written as planning.prm); or
+     * "register" (the post-operative CT of Scene/Patient/Registration
+     * registered to the pre-operative one, written with the post-operative
+     * surfaces carried into the pre-operative frame into the output
+     * directory: Patient::register_post_operative). Returns the process
+     * exit code.
      */
     static int
     run_patient_stages(const std::string &filename,
