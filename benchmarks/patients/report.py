@@ -117,6 +117,11 @@ def main(work, results):
               f"{platform.machine()} / {os.cpu_count()} cores; figures from "
               "each run's `summary.csv` and `patient.csv`. CSV: "
               "[patients.csv](patients.csv).\n")
+    # What the person who ran the benchmark says of this run (the machine's
+    # load, patients run separately), from WORK_DIR/run_note.md.
+    run_note = os.path.join(work, "run_note.md")
+    if os.path.exists(run_note):
+        md.append("**This run.** " + open(run_note).read().strip() + "\n")
     md.append("Each patient is a phantom head CT at 1 mm voxels "
               "(180 x 240 x 256), segmented, its skull cut by Le Fort I, "
               "bilateral sagittal split and genioplasty into six bone parts "
