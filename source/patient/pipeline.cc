@@ -794,9 +794,10 @@ namespace softface
                         "matched). No rotation in any case.");
       prm.declare_entry("Histogram bins",
                         std::to_string(defaults.histogram_bins),
-                        Patterns::Integer(5),
+                        Patterns::Integer(5, 1000),
                         "Bins of Mattes mutual information's joint "
-                        "histogram.");
+                        "histogram (at most 1000: the histogram holds the "
+                        "square of this many bins).");
       prm.declare_entry("Samples",
                         std::to_string(defaults.samples),
                         Patterns::Integer(0),

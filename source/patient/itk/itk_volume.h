@@ -36,6 +36,26 @@ namespace softface
       return volume;
     }
 
+    /// The sampling grid of @p volume (size and physical frame) in the
+    /// types of the ITK image class @p Image.
+    template <typename Image, typename T>
+    void
+    itk_grid_of(const Volume<T>               &volume,
+                typename Image::SizeType      &size,
+                typename Image::SpacingType   &spacing,
+                typename Image::PointType     &origin,
+                typename Image::DirectionType &direction)
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          size[d]    = volume.size[d];
+          spacing[d] = volume.spacing[d];
+          origin[d]  = volume.origin[d];
+          for (unsigned int c = 0; c < 3; ++c)
+            direction[d][c] = volume.direction[3 * d + c];
+        }
+    }
+
     template <typename T>
     typename itk::Image<T, 3>::Pointer
     to_itk(const Volume<T> &volume)
@@ -46,14 +66,7 @@ namespace softface
       typename Image::SpacingType   spacing;
       typename Image::PointType     origin;
       typename Image::DirectionType direction;
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          size[d]    = volume.size[d];
-          spacing[d] = volume.spacing[d];
-          origin[d]  = volume.origin[d];
-          for (unsigned int c = 0; c < 3; ++c)
-            direction[d][c] = volume.direction[3 * d + c];
-        }
+      itk_grid_of<Image>(volume, size, spacing, origin, direction);
       image->SetRegions(size);
       image->SetSpacing(spacing);
       image->SetOrigin(origin);

@@ -590,14 +590,7 @@ namespace softface
           FloatImage::SpacingType   spacing;
           FloatImage::PointType     origin;
           FloatImage::DirectionType direction;
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              size[d]    = grid.size[d];
-              spacing[d] = grid.spacing[d];
-              origin[d]  = grid.origin[d];
-              for (unsigned int c = 0; c < 3; ++c)
-                direction[d][c] = grid.direction[3 * d + c];
-            }
+          itk_grid_of<FloatImage>(grid, size, spacing, origin, direction);
           filter->SetSize(size);
           filter->SetOutputSpacing(spacing);
           filter->SetOutputOrigin(origin);
