@@ -1,7 +1,8 @@
 #ifndef softface_tests_peer_h
 #define softface_tests_peer_h
 
-// Reading a peer's nodal displacements (tests/data/cube30k) onto a scene.
+// Reading a peer's nodal displacements (tests/data/cube30k,
+// tests/data/offcentre_coarse) onto a scene.
 
 #include <deal.II/base/utilities.h>
 
@@ -82,16 +83,25 @@ namespace softface_tests
                 ExcMessage("the peer file does not cover every vertex"));
     return u;
   }
-  /// The shared gmsh cube scene and its planning from
-  /// peer_calculix_cube30k.prm, through the whole parameter path.
-  inline Vector<double>
-  read_peer_scene(ParameterHandler &prm, Scene &scene)
+  /// The scene and planning of the parameter file @p name in tests/,
+  /// through the whole parameter path.
+  inline Planning
+  read_scene(const std::string &name, ParameterHandler &prm, Scene &scene)
   {
-    Simulator::read_parameters(source_file("peer_calculix_cube30k.prm"), prm);
+    Simulator::read_parameters(source_file(name), prm);
     scene.parse_parameters(prm, source_file(""));
     Planning planning;
     planning.parse_parameters(prm, scene);
-    return planning.prescribed_displacement(scene);
+    return planning;
+  }
+
+  /// The shared gmsh cube scene and its planning from
+  /// peer_calculix_cube30k.prm.
+  inline Vector<double>
+  read_peer_scene(ParameterHandler &prm, Scene &scene)
+  {
+    return read_scene("peer_calculix_cube30k.prm", prm, scene)
+      .prescribed_displacement(scene);
   }
 
   /// CalculiX's linear or NLGEOM nodal displacements on that scene.

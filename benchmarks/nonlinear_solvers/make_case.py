@@ -29,6 +29,9 @@ Writes into OUTDIR:
     ccx_nl.sta, ccx_nl.cvg, ccx_nl.log   CalculiX's increment and iteration logs
     ccx_nl.dat                 CalculiX's displacements at every converged increment
     calculix_nl_displacements.csv        x,y,z,ux,uy,uz at the last converged increment
+    calculix_nl_displacements_LOAD.csv   the same at every converged increment (LOAD: %.7f)
+    calculix_nl_increments.csv           load, min det F over the tetrahedra, tetrahedra inverted,
+                               per converged increment
     result.json                case, mesh counts, prescribed motion, CalculiX outcome:
                                load reached, increments, cut-backs, iterations, wall time,
                                min volume ratio det(F) over the tetrahedra of the final state,
@@ -46,7 +49,6 @@ import time
 import numpy as np
 
 FACES = ("x0", "x1", "y0", "y1", "z0", "z1")
-SOFTFACE = "/work/main/build/softface"
 
 
 def rotation_matrix(axis, angle_deg):
@@ -308,6 +310,13 @@ def dat_blocks(path):
         yield t_cur, current
 
 
+def write_displacements(path, xyz, U):
+    """x,y,z,ux,uy,uz per node, in gmsh node order (CalculiX's .dat has 7 significant digits)."""
+    with open(path, "w") as f:
+        f.write("x,y,z,ux,uy,uz\n")
+        f.writelines("%.12g,%.12g,%.12g,%.7e,%.7e,%.7e\n" % (*p, *u) for p, u in zip(xyz, U))
+
+
 def volume_ratios(X, U, tets_idx):
     """det F per tetrahedron: deformed over reference signed volume."""
     def signed(P):
@@ -368,6 +377,11 @@ def parse_calculix(out, run, tags, xyz, tets):
             U = np.array([disp[int(t)] for t in tags])
             J = volume_ratios(xyz, U, index)
             history.append([t_dat, float(J.min()), int((J <= 0).sum())])
+            write_displacements(os.path.join(out, "calculix_nl_displacements_%.7f.csv" % t_dat),
+                                xyz, U)
+        with open(os.path.join(out, "calculix_nl_increments.csv"), "w") as f:
+            f.write("load,min_volume_ratio,n_inverted\n")
+            f.writelines("%.7f,%.6g,%d\n" % tuple(h) for h in history)
         res["dat_time"] = t_dat
         res["volume_ratio_history"] = history
         valid = [h[0] for h in history if h[2] == 0]
@@ -375,9 +389,7 @@ def parse_calculix(out, run, tags, xyz, tets):
         res["last_load_without_inversion"] = valid[-1] if valid else 0.0
         first_bad = [h[0] for h in history if h[2] > 0]
         res["first_load_with_inversion"] = first_bad[0] if first_bad else None
-        with open(os.path.join(out, "calculix_nl_displacements.csv"), "w") as f:
-            f.write("x,y,z,ux,uy,uz\n")
-            f.writelines("%.12g,%.12g,%.12g,%.7e,%.7e,%.7e\n" % (*p, *u) for p, u in zip(xyz, U))
+        write_displacements(os.path.join(out, "calculix_nl_displacements.csv"), xyz, U)
         k = int(np.argmin(J))
         res.update({
             "max_displacement_mm": float(np.linalg.norm(U, axis=1).max()),

@@ -32,6 +32,8 @@ import time
 
 import numpy as np
 
+HERE = os.path.dirname(os.path.abspath(__file__))
+DEFAULT_SOFTFACE = os.path.join(HERE, "..", "..", "build", "softface")
 SCENES = {"svk": "scene.prm", "neo_hooke": "scene_neo_hooke.prm", "reference": "scene_reference.prm"}
 NUM = r"(\d+(?:\.\d*)?(?:[eE][+-]?\d+)?)"
 STEP = re.compile(r"^\s*load step (\d+): load " + NUM + r", (\d+) Newton iterations")
@@ -43,10 +45,13 @@ def read_csv(path):
     return np.loadtxt(path, delimiter=",", skiprows=1)
 
 
-def run(case_dir, variant, softface, timeout):
-    scene = os.path.join(case_dir, SCENES[variant])
-    outdir = os.path.join(case_dir, "softface_" + variant)
-    log_path = os.path.join(case_dir, "softface_%s.log" % variant)
+def run(case_dir, variant, softface, timeout, scene=None, tag=None):
+    """Run softface on CASE_DIR/SCENE (default: the variant's scene). TAG (default: the variant)
+    names the log and the output folder, which the scene must name as CASE_DIR/softface_TAG."""
+    scene = scene or SCENES[variant]
+    tag = tag or variant
+    outdir = os.path.join(case_dir, "softface_" + tag)
+    log_path = os.path.join(case_dir, "softface_%s.log" % tag)
     summary = os.path.join(outdir, "summary.csv")
     if os.path.exists(summary):
         os.remove(summary)
@@ -54,7 +59,7 @@ def run(case_dir, variant, softface, timeout):
     status = None
     with open(log_path, "w") as log:
         try:
-            proc = subprocess.run([softface, SCENES[variant]], cwd=case_dir, stdout=log,
+            proc = subprocess.run([softface, scene], cwd=case_dir, stdout=log,
                                   stderr=subprocess.STDOUT, timeout=timeout)
             rc = proc.returncode
         except subprocess.TimeoutExpired:
@@ -64,7 +69,7 @@ def run(case_dir, variant, softface, timeout):
     steps = [(int(m.group(1)), float(m.group(2)), int(m.group(3)))
              for m in map(STEP.match, text.splitlines()) if m]
     fails = [[float(m.group(1)), m.group(2)] for m in map(FAIL.match, text.splitlines()) if m]
-    res = {"scene": SCENES[variant], "return_code": rc, "wall_s": round(wall, 2),
+    res = {"scene": scene, "return_code": rc, "wall_s": round(wall, 2),
            "load_steps": len(steps), "cutbacks": len(fails),
            "newton_iterations_converged": sum(s[2] for s in steps),
            "load_per_step": [s[1] for s in steps], "failed_steps": fails}
@@ -134,17 +139,19 @@ def run(case_dir, variant, softface, timeout):
 
 
 def main(argv):
-    args, softface, timeout = [], "/work/main/build/softface", 3600
+    args, softface, timeout = [], DEFAULT_SOFTFACE, 3600
     it = iter(argv[1:])
     for a in it:
         if a == "--softface":
-            softface = next(it)
+            softface = os.path.abspath(next(it))
         elif a == "--timeout":
             timeout = float(next(it))
         else:
             args.append(a)
     if not args:
         sys.exit(__doc__)
+    if not os.access(softface, os.X_OK):
+        sys.exit("run_softface.py: %s is not an executable (build softface first)" % softface)
     case_dir = os.path.abspath(args[0])
     variants = args[1:] or ["svk", "neo_hooke"]
     for v in variants:

@@ -154,14 +154,19 @@ namespace softface
   }
 
   Vector<double>
-  Planning::prescribed_displacement(const Scene &scene) const
+  Planning::prescribed_displacement(const Scene &scene, const double load) const
   {
+    // Each motion a fraction of the way: the bones stay rigid.
+    auto motions = motion_of_segment;
+    if (load != 1.)
+      for (auto &[segment, motion] : motions)
+        motion = motion.fraction(load);
     Vector<double> u(scene.dof_handler.n_dofs());
     const auto    &vertices = scene.triangulation.get_vertices();
     for (unsigned int v = 0; v < vertices.size(); ++v)
       {
-        const auto motion = motion_of_segment.find(scene.vertex_segment()[v]);
-        if (motion == motion_of_segment.end() ||
+        const auto motion = motions.find(scene.vertex_segment()[v]);
+        if (motion == motions.end() ||
             scene.vertex_dofs()[v][0] == numbers::invalid_dof_index)
           continue;
         const Tensor<1, 3> d = motion->second.displacement(vertices[v]);
@@ -172,8 +177,8 @@ namespace softface
     // which places the surface (SceneEffects::free_vertex_constraints).
     for (const auto &constraint : scene.effects.vertex_constraints)
       {
-        const auto motion = motion_of_segment.find(constraint.segment);
-        if (motion == motion_of_segment.end())
+        const auto motion = motions.find(constraint.segment);
+        if (motion == motions.end())
           continue;
         const Tensor<1, 3> d =
           motion->second.displacement(vertices[constraint.vertex]);

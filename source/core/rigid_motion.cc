@@ -18,7 +18,8 @@ namespace softface
                            const Tensor<1, 3> &axis,
                            const double        angle_in_degrees,
                            const Point<3>     &centre)
-      : rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
+      : angle_in_degrees(angle_in_degrees)
+      , rotation(Tensor<2, 3>(unit_symmetric_tensor<3>()))
       , centre(centre)
       , translation(translation)
   {
@@ -27,9 +28,16 @@ namespace softface
         if (!(axis.norm() > 0.))
           throw Error("A rotation by " + std::to_string(angle_in_degrees) +
                       " degrees needs a non-zero rotation axis.");
-        rotation = Physics::Transformations::Rotations::rotation_matrix_3d(
-          Tensor<1, 3>(axis / axis.norm()), angle_in_degrees * M_PI / 180.);
+        this->axis = axis / axis.norm();
+        rotation   = Physics::Transformations::Rotations::rotation_matrix_3d(
+          this->axis, angle_in_degrees * M_PI / 180.);
       }
+  }
+
+  RigidMotion
+  RigidMotion::fraction(const double s) const
+  {
+    return RigidMotion(s * translation, axis, s * angle_in_degrees, centre);
   }
 
   Point<3>

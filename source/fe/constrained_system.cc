@@ -101,9 +101,16 @@ namespace softface
             if ((is_join[row] || is_join[entry->column()]) &&
                 entry->column() != row)
               entry->value() = 0.;
-          // A join DoF whose cells were all left out (see right_hand_side).
-          if (is_join[row] && matrix.diag_element(row) == 0.)
-            matrix.diag_element(row) = 1.;
+          // A join DoF keeps the size of its diagonal entry (the solvers'
+          // scaling) but not its sign: under strong compression it can be
+          // negative, and the matrix must be positive definite exactly when
+          // its free block is. 1 for a join DoF whose cells were all left
+          // out (see right_hand_side).
+          if (is_join[row])
+            {
+              double &diagonal = matrix.diag_element(row);
+              diagonal         = diagonal != 0. ? std::abs(diagonal) : 1.;
+            }
         }
     }
 
@@ -127,7 +134,7 @@ namespace softface
       for (unsigned int i = 0; i < n; ++i)
         if (is_join[i])
           rhs[i] = (unconstrained.diag_element(i) != 0. ?
-                      unconstrained.diag_element(i) :
+                      std::abs(unconstrained.diag_element(i)) :
                       1.) *
                    d[i];
     }

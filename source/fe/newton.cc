@@ -2,9 +2,13 @@
 // nonlinear FEM models on any layout: they provide forces and tangent, this
 // drives the join DoFs to the planned motion.
 
+#include <deal.II/lac/sparse_direct.h>
+#include <deal.II/sundials/kinsol.h>
+
 #include <softface/core/error.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/newton.h>
+#include <softface/fe/sparse_cholesky.h>
 
 #include <cmath>
 #include <iomanip>
@@ -38,16 +42,77 @@ namespace softface
                       "Newton stops when the free DoFs' residual force is "
                       "below this fraction of the largest unbalanced force "
                       "a load step started with.");
+    prm.declare_entry("Predictor",
+                      "tangent",
+                      Patterns::Selection("tangent|secant|join only"),
+                      "How a load step starts once the join points are at "
+                      "its target: 'tangent' moves the free points by the "
+                      "tangent system's answer (its free part halved, down "
+                      "to 1/32, until no tetrahedron inverts; else the "
+                      "step is cut back), 'secant' extrapolates them from "
+                      "the last two converged loads (tangent where that "
+                      "inverts a tetrahedron), 'join only' leaves them "
+                      "where they are.");
+    prm.declare_entry("Load path",
+                      "rigid",
+                      Patterns::Selection("rigid|linear"),
+                      "'rigid': at a load s every moved bone is turned by s "
+                      "times its angle and moved by s times its "
+                      "translation, so it stays rigid on the way; "
+                      "'linear': s times the final displacement, which "
+                      "shrinks a turned bone on the way. Both end at the "
+                      "planning.");
+    prm.declare_entry("Indefinite tangent",
+                      "cut back",
+                      Patterns::Selection("cut back|lu|lu and unstable"),
+                      "What a Newton iteration does when the tangent is not "
+                      "positive definite: 'cut back' fails the step (halves "
+                      "the increment); 'lu' solves it by UMFPACK's LU "
+                      "factorisation (Newton's direction lowers the "
+                      "residual norm without definiteness) and then accepts "
+                      "the step's equilibrium only if its tangent is "
+                      "positive definite (Cholesky), so that the answer is "
+                      "stable; 'lu and unstable' accepts unstable "
+                      "equilibria too (as CalculiX does; for comparison). "
+                      "Measured (doc/results/nonlinear_solvers.md): 'lu' "
+                      "reaches no further and costs an LU factorisation "
+                      "each time, hence 'cut back'. Whatever the choice, "
+                      "St. Venant-Kirchhoff's equilibria are tested for "
+                      "stability at every load step (one Cholesky "
+                      "factorisation), since CG may pass an indefinite "
+                      "tangent unnoticed.");
+    prm.declare_entry("Nonlinear solver",
+                      "newton",
+                      Patterns::Selection("newton|kinsol"),
+                      "Who iterates after each load step's predictor: "
+                      "'newton', softface's loop (full tangent every "
+                      "iteration, backtracking on the residual norm), or "
+                      "'kinsol', SUNDIALS' KINSOL (its line search; an "
+                      "inverted trial state is a recoverable residual "
+                      "error on a full step), with the same linear solver. "
+                      "Not with contact or lips. With a Debug build of "
+                      "deal.II 9.4 a KINSOL failure aborts (its return "
+                      "code is checked by a debug assertion).");
   }
 
   void
   LoadSteppedNewton::Parameters::parse_parameters(ParameterHandler  &prm,
                                                   const std::string &model)
   {
-    initial_increment  = prm.get_double("Initial load increment");
-    minimum_increment  = prm.get_double("Minimum load increment");
-    max_iterations     = prm.get_integer("Maximum Newton iterations");
-    residual_tolerance = prm.get_double("Residual tolerance");
+    initial_increment            = prm.get_double("Initial load increment");
+    minimum_increment            = prm.get_double("Minimum load increment");
+    max_iterations               = prm.get_integer("Maximum Newton iterations");
+    residual_tolerance           = prm.get_double("Residual tolerance");
+    const std::string p          = prm.get("Predictor");
+    predictor                    = p == "secant"    ? Predictor::secant :
+                                   p == "join only" ? Predictor::join_only :
+                                                      Predictor::tangent;
+    rigid_path                   = prm.get("Load path") == "rigid";
+    const std::string indefinite = prm.get("Indefinite tangent");
+    indefinite_lu                = indefinite != "cut back";
+    accept_unstable              = indefinite == "lu and unstable";
+    corrector = prm.get("Nonlinear solver") == "kinsol" ? Corrector::kinsol :
+                                                          Corrector::newton;
     if (!(initial_increment > 0.))
       throw Error(model + ": 'Initial load increment' must be positive.");
     // Halving a failing step must end somewhere.
@@ -70,6 +135,24 @@ namespace softface
       , where_refused(where_refused)
   {}
 
+  void
+  LoadSteppedNewton::set_path(const Path &p)
+  {
+    path = p;
+  }
+
+  const Vector<double> *
+  LoadSteppedNewton::bone_now() const
+  {
+    return path && prm.rigid_path ? &bone_on_path : bone;
+  }
+
+  double
+  LoadSteppedNewton::bone_factor(const double load) const
+  {
+    return path && prm.rigid_path ? 1. : load;
+  }
+
   bool
   LoadSteppedNewton::unbalanced_forces(
     const Vector<double> &u,
@@ -89,7 +172,8 @@ namespace softface
                           const Vector<double> &target,
                           const double          load,
                           TimerOutput          &timer,
-                          std::ostream         *progress)
+                          std::ostream         *progress,
+                          const Vector<double> *guess)
   {
     const unsigned int n = u.size();
     StepResult         result;
@@ -114,11 +198,42 @@ namespace softface
     // The accepted line-search point was evaluated with its tangent, so the
     // next iteration starts from it without assembling again.
     bool evaluated = false;
+    // Whether an iteration solved with an indefinite tangent (LU).
+    bool indefinite = false;
+    // A start other than the tangent predictor: taken if the
+    // discretisation accepts it, and Newton corrects from there.
+    if (guess != nullptr)
+      {
+        bool valid;
+        {
+          TimerOutput::Scope scope(timer, "assembly");
+          valid = unbalanced_forces(*guess, load, forces, &tangent);
+        }
+        if (valid)
+          {
+            u              = *guess;
+            evaluated      = true;
+            join_increment = 0.;
+            // The step's scale: what the start leaves unbalanced.
+            reference_force = std::max(reference_force, free_norm(forces));
+            if (prm.corrector == Parameters::Corrector::kinsol)
+              return kinsol_step(u, load, timer, result, false);
+          }
+        else if (prm.predictor == Parameters::Predictor::join_only)
+          {
+            result.reason = "the predictor inverts a tetrahedron" +
+                            (where_refused ? where_refused() : std::string());
+            return result;
+          }
+        else
+          ++report.secant_fallbacks;
+      }
     for (unsigned int it = 0; it <= prm.max_iterations; ++it)
       {
         Timer              iteration_timer;
         const unsigned int linear_before = report.linear_iterations;
-        const bool         first         = (it == 0);
+        // The tangent predictor: the iteration that moves the join DoFs.
+        const bool first = (it == 0) && !evaluated;
         {
           TimerOutput::Scope scope(timer, "assembly");
           if (!evaluated && !unbalanced_forces(u, load, forces, &tangent))
@@ -130,8 +245,18 @@ namespace softface
         }
         const double residual = free_norm(forces);
         result.residual       = residual / std::max(reference_force, 1e-300);
-        if (!first && residual <= prm.residual_tolerance * reference_force)
+        if (it > 0 && residual <= prm.residual_tolerance * reference_force)
           {
+            // An iteration crossed an indefinite tangent: keep the
+            // equilibrium only if it is stable.
+            if ((indefinite || prm.check_stability) && !prm.accept_unstable &&
+                !tangent_positive_definite(u, load, timer))
+              {
+                result.reason   = "the equilibrium reached is unstable (its "
+                                  "tangent is not positive definite)";
+                result.unstable = true;
+                return result;
+              }
             result.converged = true;
             return result;
           }
@@ -146,7 +271,10 @@ namespace softface
           if (constraints != nullptr)
             {
               // du = closing + C x: C^T K C x = C^T (rhs - K closing).
-              constraints->closing_increment(u, *bone, load, closing);
+              constraints->closing_increment(u,
+                                             *bone_now(),
+                                             bone_factor(load),
+                                             closing);
               Vector<double> K_closing(n);
               tangent.vmult(K_closing, closing);
               rhs -= K_closing;
@@ -170,21 +298,12 @@ namespace softface
         LinearSolver::Result solve;
         {
           TimerOutput::Scope scope(timer, "linear solves");
-          const unsigned int builds_before = linear_solver.n_amg_builds();
-          du                               = 0.;
-          if (linear_solver.set_matrix(tangent))
-            solve = linear_solver.solve(rhs, du);
-          else
-            {
-              solve.not_positive_definite = true;
-              solve.iterations            = 1;
-            }
-          report.linear_iterations += solve.iterations;
-          report.amg_rebuilds += linear_solver.n_amg_builds() - builds_before;
+          solve = solve_tangent(rhs, du);
+          indefinite |= solve.converged && solve.not_positive_definite;
         }
-        if (solve.not_positive_definite)
+        if (solve.not_positive_definite && !solve.converged)
           result.reason = "the tangent is not positive definite";
-        else if (solve.negative_curvature)
+        else if (solve.negative_curvature && !solve.converged)
           result.reason = "the tangent is not positive definite (CG found "
                           "negative curvature after " +
                           std::to_string(solve.iterations) + " iterations)";
@@ -204,13 +323,20 @@ namespace softface
           if (is_join[i])
             du[i] = join_increment[i];
 
-        // Backtracking on the residual norm; the predictor (which moves the
-        // join DoFs) is taken whole or the step fails.
+        // Backtracking on the residual norm. The predictor moves the join
+        // DoFs whole; if its state is refused, its free part is halved
+        // (damped) until it is not: the join points' motion is the load
+        // step, the free points' linear guess may overshoot (a rotation's
+        // linearisation stretches), and Newton corrects either.
         bool accepted = false;
         for (double alpha = 1.; alpha > 1. / 64 && !accepted; alpha /= 2)
           {
             trial = u;
             trial.add(alpha, du);
+            if (first)
+              for (unsigned int i = 0; i < n; ++i)
+                if (is_join[i])
+                  trial[i] = u[i] + du[i];
             bool valid;
             {
               TimerOutput::Scope scope(timer, "assembly");
@@ -218,9 +344,11 @@ namespace softface
             }
             if (valid && (first || free_norm(trial_forces) <=
                                      (1. - 1e-4 * alpha) * residual))
-              accepted = true;
-            if (first)
-              break;
+              {
+                accepted = true;
+                if (first && alpha < 1.)
+                  ++report.damped_predictors;
+              }
           }
         if (!accepted)
           {
@@ -234,6 +362,8 @@ namespace softface
         forces.swap(trial_forces);
         evaluated      = true;
         join_increment = 0.;
+        if (prm.corrector == Parameters::Corrector::kinsol)
+          return kinsol_step(u, load, timer, result, indefinite);
 
         // Large (quadratic reference) solves take minutes: say where they
         // are once an iteration is slow enough for anyone to wonder.
@@ -255,6 +385,193 @@ namespace softface
     result.reason =
       "no convergence in " + std::to_string(prm.max_iterations) + " iterations";
     return result;
+  }
+
+  LoadSteppedNewton::StepResult
+  LoadSteppedNewton::kinsol_step(Vector<double> &u,
+                                 const double    load,
+                                 TimerOutput    &timer,
+                                 StepResult      result,
+                                 const bool      indefinite_predictor)
+  {
+    const unsigned int n      = u.size();
+    unsigned int       n_free = 0;
+    for (unsigned int i = 0; i < n; ++i)
+      n_free += !is_join[i];
+    // KINSOL stops on the max norm of the scaled residual; scaled by the
+    // step's reference force and the number of free DoFs, that bounds the
+    // same relative 2-norm as softface's loop.
+    Vector<double> function_scaling(n);
+    function_scaling = 1. / std::max(reference_force, 1e-300);
+    using KINSOL     = SUNDIALS::KINSOL<Vector<double>>;
+    KINSOL::AdditionalData data(KINSOL::AdditionalData::linesearch,
+                                prm.max_iterations,
+                                prm.residual_tolerance /
+                                  std::sqrt(double(std::max(n_free, 1u))),
+                                1e-14,
+                                false,
+                                1); // the exact tangent every iteration
+    KINSOL                 kinsol(data);
+    LinearSolver::Result   last_solve;
+    bool                   refused    = false;
+    bool                   indefinite = indefinite_predictor;
+    kinsol.reinit_vector              = [n](Vector<double> &v) { v.reinit(n); };
+    kinsol.residual = [&](const Vector<double> &x, Vector<double> &F) {
+      TimerOutput::Scope scope(timer, "assembly");
+      if (!unbalanced_forces(x, load, F, nullptr))
+        {
+          refused = true;
+          return 1; // recoverable: KINSOL shortens the step
+        }
+      for (unsigned int i = 0; i < n; ++i)
+        if (is_join[i])
+          F[i] = 0.;
+      return 0;
+    };
+    kinsol.setup_jacobian = [&](const Vector<double> &x,
+                                const Vector<double> &) {
+      TimerOutput::Scope scope(timer, "assembly");
+      Vector<double>     F(n);
+      if (!unbalanced_forces(x, load, F, &tangent))
+        return 1;
+      ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+      return 0;
+    };
+    kinsol.solve_with_jacobian =
+      [&](const Vector<double> &rhs, Vector<double> &dst, const double) {
+        TimerOutput::Scope scope(timer, "linear solves");
+        last_solve = solve_tangent(rhs, dst);
+        indefinite |= last_solve.converged && last_solve.not_positive_definite;
+        for (unsigned int i = 0; i < n; ++i)
+          if (is_join[i])
+            dst[i] = 0.;
+        return last_solve.converged ? 0 : -1;
+      };
+    kinsol.get_function_scaling = [&]() -> Vector<double> & {
+      return function_scaling;
+    };
+    Vector<double> x = u;
+    try
+      {
+        result.iterations += kinsol.solve(x);
+      }
+    catch (const std::exception &)
+      {
+        // deal.II 9.4 checks KINSOL's return code only in Debug builds (and
+        // aborts there); the state left in x is judged below either way.
+      }
+    Vector<double> forces(n);
+    const bool     valid = unbalanced_forces(x, load, forces, nullptr);
+    result.residual      = ConstrainedSystem::free_norm(is_join, forces) /
+                      std::max(reference_force, 1e-300);
+    result.converged = valid && result.residual <= prm.residual_tolerance;
+    if (!result.converged)
+      {
+        result.reason = "KINSOL stopped above the residual tolerance";
+        if (!last_solve.converged && last_solve.iterations > 0)
+          result.reason += " (a linear solve failed)";
+        else if (refused)
+          result.reason += " (trial states inverted a tetrahedron" +
+                           (where_refused ? where_refused() : "") + ")";
+      }
+    else if ((indefinite || prm.check_stability) && !prm.accept_unstable &&
+             !tangent_positive_definite(x, load, timer))
+      {
+        result.converged = false;
+        result.unstable  = true;
+        result.reason    = "the equilibrium reached is unstable (its tangent "
+                           "is not positive definite)";
+      }
+    if (valid)
+      u = x;
+    return result;
+  }
+
+  LinearSolver::Result
+  LoadSteppedNewton::solve_tangent(const Vector<double> &rhs,
+                                   Vector<double>       &du)
+  {
+    const unsigned int   builds_before = linear_solver.n_amg_builds();
+    LinearSolver::Result solve;
+    du = 0.;
+    if (linear_solver.set_matrix(tangent))
+      solve = linear_solver.solve(rhs, du);
+    else
+      {
+        solve.not_positive_definite = true;
+        solve.iterations            = 1;
+      }
+    report.linear_iterations += solve.iterations;
+    report.amg_rebuilds += linear_solver.n_amg_builds() - builds_before;
+    if ((solve.not_positive_definite || solve.negative_curvature) &&
+        prm.indefinite_lu)
+      {
+        // Newton's direction needs no definiteness: -K^{-1} r lowers |r|
+        // for any invertible K. LU, refactorised each time (rare).
+        SparseDirectUMFPACK lu;
+        try
+          {
+            lu.initialize(tangent);
+            lu.vmult(du, rhs);
+          }
+        catch (const std::exception &)
+          {
+            return solve; // singular: the step fails as before
+          }
+        ++report.indefinite_solves;
+        solve.converged             = true;
+        solve.not_positive_definite = true;
+        solve.negative_curvature    = false;
+      }
+    return solve;
+  }
+
+  bool
+  LoadSteppedNewton::tangent_positive_definite(const Vector<double> &u,
+                                               const double          load,
+                                               TimerOutput          &timer)
+  {
+    TimerOutput::Scope scope(timer, "stability checks");
+    const unsigned int n = u.size();
+    Vector<double>     forces(n);
+    if (!unbalanced_forces(u, load, forces, &tangent))
+      return false;
+    ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+    if (constraints != nullptr)
+      constraints->condense(tangent);
+    // Cholesky, whatever the linear solver: CG may converge on an
+    // indefinite matrix without meeting negative curvature. The ordering
+    // is computed once.
+    return stability_cholesky.refactorize(tangent);
+  }
+
+  std::string
+  LoadSteppedNewton::diagnose_tangent(const Vector<double> &u,
+                                      const double          load,
+                                      const double          next,
+                                      const bool            unstable_next,
+                                      TimerOutput          &timer)
+  {
+    if (load == 0.)
+      return "";
+    std::ostringstream s;
+    if (!tangent_positive_definite(u, load, timer))
+      s << " At that load the tangent is not positive definite: the "
+           "equilibrium is at a limit of stability of the material law.";
+    else if (unstable_next)
+      s << " At that load the equilibrium is stable (tangent positive "
+           "definite); at "
+        << next
+        << " the equilibrium Newton found is unstable: the material law "
+           "loses stability (a limit or bifurcation point) in between, "
+           "so no smaller load step gets further along this branch "
+           "('Indefinite tangent = lu and unstable' follows unstable "
+           "equilibria, as CalculiX does).";
+    else
+      s << " At that load the equilibrium is stable (tangent positive "
+           "definite; no limit of the law found): the next load step "
+           "failed for the reason above.";
+    return s.str();
   }
 
   void
@@ -279,16 +596,48 @@ namespace softface
   {
     external             = external_forces;
     const unsigned int n = join_motion.size();
-    report               = Report();
-    reference_force      = 0.;
+    if (prm.corrector == Parameters::Corrector::kinsol &&
+        constraints != nullptr)
+      throw Error(description +
+                  ": 'Nonlinear solver = kinsol' does not take the "
+                  "constraints of sliding contact or separated lips; use "
+                  "'newton'.");
+    report          = Report();
+    reference_force = 0.;
     u.reinit(n);
     Vector<double> converged = u, target(n);
+    // The converged state before the last one, for the secant predictor.
+    Vector<double> previous;
+    double         previous_load = 0.;
+    Vector<double> guess;
     double         load = 0., increment = prm.initial_increment;
     while (load < 1.)
       {
         const double next = std::min(1., load + increment);
-        target.equ(next, join_motion);
-        StepResult result = step(u, target, next, timer, progress);
+        if (path && prm.rigid_path)
+          path(next, target, bone_on_path);
+        else
+          target.equ(next, join_motion);
+        const Vector<double> *start = nullptr;
+        if (prm.predictor == Parameters::Predictor::join_only)
+          {
+            guess = u;
+            start = &guess;
+          }
+        else if (prm.predictor == Parameters::Predictor::secant &&
+                 previous.size() == n)
+          {
+            guess = u;
+            guess.sadd(1. + (next - load) / (load - previous_load),
+                       -(next - load) / (load - previous_load),
+                       previous);
+            start = &guess;
+          }
+        if (start != nullptr)
+          for (unsigned int i = 0; i < n; ++i)
+            if (is_join[i])
+              guess[i] = target[i];
+        StepResult result = step(u, target, next, timer, progress, start);
         // Unilateral constraints: release those that pull, hold those
         // passed through, and solve the step again until none changes.
         for (unsigned int round = 1;
@@ -298,7 +647,8 @@ namespace softface
           {
             Vector<double> forces(n);
             unbalanced_forces(u, next, forces, nullptr);
-            if (constraints->update_active_set(u, *bone, forces, next) == 0)
+            if (constraints->update_active_set(
+                  u, *bone_now(), forces, bone_factor(next)) == 0)
               break;
             if (round == max_rounds)
               {
@@ -315,8 +665,14 @@ namespace softface
           }
         if (result.converged)
           {
-            load      = next;
-            converged = u;
+            if (prm.predictor == Parameters::Predictor::secant)
+              {
+                previous      = converged;
+                previous_load = load;
+              }
+            load                = next;
+            converged           = u;
+            report.load_reached = load;
             ++report.load_steps;
             report.newton_iterations += result.iterations;
             report.iterations_per_step.push_back(result.iterations);
@@ -358,7 +714,9 @@ namespace softface
                   << " (relative residual " << result.residual
                   << "); the increment fell below " << prm.minimum_increment
                   << " after " << report.cutbacks
-                  << " cut-backs. Last converged load: " << load << "." << hint;
+                  << " cut-backs. Last converged load: " << load << "."
+                  << diagnose_tangent(u, load, next, result.unstable, timer)
+                  << hint;
                 throw Error(m.str());
               }
           }

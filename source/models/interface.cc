@@ -159,6 +159,12 @@ namespace softface
       progress = stream;
     }
 
+    void
+    Interface::set_load_path(const LoadPath &path)
+    {
+      load_path = path;
+    }
+
     TimerOutput::Scope
     Interface::phase(const std::string &name, const bool diagnostic)
     {

@@ -144,8 +144,10 @@ namespace softface
           " St. Venant-Kirchhoff softens under strong compression and may "
           "have no equilibrium here; 'Material law = neo-hooke' does." :
           "";
+      LoadSteppedNewton::Parameters newton_prm = newton_parameters;
+      newton_prm.check_stability = law == MaterialLaw::Law::st_venant_kirchhoff;
       LoadSteppedNewton newton(
-        newton_parameters,
+        newton_prm,
         [this](const Vector<double> &v,
                Vector<double>       &forces,
                SparseMatrix<double> *matrix) {
@@ -155,18 +157,41 @@ namespace softface
         is_join,
         linear_solver,
         [this]() { return refusal; });
+      if (load_path)
+        newton.set_path([this](const double    load,
+                               Vector<double> &target,
+                               Vector<double> &bone) {
+          bone = load_path(load);
+          join_motion(bone, target);
+        });
       if (vertex_constraints)
         newton.set_vertex_constraints(vertex_constraints.get(),
                                       &prescribed,
                                       scene->effects.active_set_limit());
-      last_report = newton.solve(
-        motion, u, timer(), progress, description, hint, body_force);
+      try
+        {
+          last_report = newton.solve(
+            motion, u, timer(), progress, description, hint, body_force);
+        }
+      catch (const Error &)
+        {
+          // How far it got stays readable (report().load_reached).
+          last_report = newton.report_so_far();
+          throw;
+        }
       vertex_values(u, displacement);
 
       set_iterations(last_report.newton_iterations);
       set_residual(last_report.final_residual);
       add_detail("load steps", last_report.load_steps);
       add_detail("cut-backs", last_report.cutbacks);
+      if (last_report.damped_predictors > 0)
+        add_detail("damped predictors", last_report.damped_predictors);
+      if (last_report.indefinite_solves > 0)
+        add_detail("indefinite tangents solved by LU",
+                   last_report.indefinite_solves);
+      if (last_report.secant_fallbacks > 0)
+        add_detail("secant predictors refused", last_report.secant_fallbacks);
       if (vertex_constraints)
         add_detail("contact constraints holding",
                    vertex_constraints->n_holding());

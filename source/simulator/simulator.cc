@@ -380,6 +380,9 @@ namespace softface
         try
           {
             model->set_progress_stream(&out);
+            model->set_load_path([planning, &scene](const double load) {
+              return planning.prescribed_displacement(scene, load);
+            });
             model->setup(scene);
             out << tag << "setup " << model->statistics().setup_time << " s"
                 << std::endl;

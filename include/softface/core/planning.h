@@ -46,10 +46,11 @@ namespace softface
     /**
      * The displacement of every join point under this plan, as a vector on
      * the scene's DoF layout (zero on the free DoFs but those of a vertex
-     * sliding on a bone: the bone's displacement there).
+     * sliding on a bone: the bone's displacement there); with @p load < 1,
+     * under each motion's fraction @p load (RigidMotion::fraction()).
      */
     Vector<double>
-    prescribed_displacement(const Scene &scene) const;
+    prescribed_displacement(const Scene &scene, const double load = 1.) const;
 
   private:
     std::map<unsigned int, RigidMotion> motion_of_segment;

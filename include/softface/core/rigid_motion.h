@@ -27,7 +27,20 @@ namespace softface
     Tensor<1, 3>
     displacement(const Point<3> &x) const;
 
+    /**
+     * The motion a fraction @p s of the way: the rotation by s times the
+     * angle about the same axis and centre, and s times the translation.
+     * Every fraction is rigid, unlike s times the displacement, which
+     * shrinks a rotated bone on the way (half-way through a turn by theta,
+     * a distance across the axis by the factor cos(theta / 2)): the
+     * nonlinear models' load path (Models::Interface).
+     */
+    RigidMotion
+    fraction(const double s) const;
+
   private:
+    Tensor<1, 3> axis{{0., 0., 1.}};
+    double       angle_in_degrees = 0.;
     Tensor<2, 3> rotation;
     Point<3>     centre;
     Tensor<1, 3> translation;

@@ -54,7 +54,8 @@ namespace softface
 
     /**
      * Eliminate the join DoFs symmetrically: zero their rows and columns,
-     * keep the diagonal.
+     * keep the diagonal's magnitude (1 where it is zero), so that the matrix
+     * is positive definite exactly when its free block is.
      */
     void
     eliminate_join_dofs(const std::vector<bool> &is_join,
@@ -64,8 +65,8 @@ namespace softface
      * The right-hand side that goes with the eliminated matrix when the join
      * DoFs move by @p join_values (read on join DoFs only) and the residual
      * force is @p residual (null: zero): -(K d + r) on the free rows,
-     * K_jj d_j on the join rows. @p unconstrained is K before elimination;
-     * its diagonal is the eliminated matrix's.
+     * |K_jj| d_j on the join rows. @p unconstrained is K before elimination;
+     * its diagonal's magnitude is the eliminated matrix's.
      */
     void
     right_hand_side(const SparseMatrix<double> &unconstrained,

@@ -7,6 +7,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/sparse_cholesky.h>
 #include <softface/fe/vertex_constraints.h>
 
 #include <functional>
@@ -21,15 +22,43 @@ namespace softface
   /**
    * Newton's method with load stepping for a discretisation whose join DoFs
    * are prescribed (the nonlinear FEM models). The join DoFs' motion is
-   * applied in load steps; each step is solved by Newton's method with the
-   * consistent tangent: the first iteration moves the join DoFs to the
-   * step's target and predicts the free ones linearly, later ones correct
-   * with the join DoFs fixed. Every update is line-searched on the residual
+   * applied in load steps, along a path the model gives (each bone rigid at
+   * every load) or scaled linearly; each step is solved by Newton's method
+   * with the consistent tangent, every update line-searched on the residual
    * norm and refused if the discretisation refuses the state (an inverted
-   * element). A step that fails (refused state, no descent, no convergence,
-   * a tangent that is not positive definite) is retried with half the
-   * increment; a step that converges in at most four iterations lets the
-   * next one grow.
+   * element).
+   *
+   * Each step starts from a predictor that moves the join DoFs to the
+   * step's target:
+   * - tangent (default): the free DoFs follow linearly (the tangent system
+   *   solved for the join increment); if that state is refused, the free
+   *   part is halved until it is not (a damped predictor);
+   * - secant: the free DoFs extrapolated from the last two converged loads
+   *   (the tangent predictor where there is no such pair or the state is
+   *   refused);
+   * - join only: the free DoFs stay (the naive predictor, for comparison).
+   * A tangent that is not positive definite fails the step or, if asked,
+   * is solved by LU (Newton's direction needs no definiteness); an
+   * equilibrium reached through one, and every St. Venant-Kirchhoff
+   * equilibrium, is accepted only if its tangent is positive definite (a
+   * stable equilibrium), unless the user asks for unstable ones too. A
+   * step that fails (refused state, no descent, no convergence, an
+   * indefinite tangent, an unstable equilibrium) is retried with half the
+   * increment; a step that converges in at most four iterations lets
+   * the next one grow. When the increment falls below its minimum, the
+   * error says how far the solve got and whether the law lost stability
+   * there.
+   *
+   * The corrector after the predictor is this class's loop (default) or
+   * SUNDIALS' KINSOL. Measured on issue 18's cases
+   * (doc/results/nonlinear_solvers.md): KINSOL gives the same answers and
+   * loads in about as many iterations and as much time, so the loop, which
+   * reports why a step failed and works with contact constraints, stays
+   * the default; the tangent predictor needs far fewer iterations than
+   * leaving the free points (join only), and the secant one is no better;
+   * the rigid path keeps bones rigid on the way at no cost; LU on an
+   * indefinite tangent saves a cut-back now and then but reaches no
+   * further and costs a factorisation, so cutting back stays the default.
    */
   class LoadSteppedNewton
   {
@@ -40,6 +69,34 @@ namespace softface
       double       minimum_increment  = 1e-3;
       unsigned int max_iterations     = 20;
       double       residual_tolerance = 1e-10;
+      enum class Predictor
+      {
+        tangent,
+        secant,
+        join_only
+      };
+      Predictor predictor = Predictor::tangent;
+      /// Follow the model's load path (rigid bones), if it gives one.
+      bool rigid_path = true;
+      /// Who corrects after the predictor: this class's Newton loop or
+      /// SUNDIALS' KINSOL (line search; a refused state is a recoverable
+      /// error of the residual).
+      enum class Corrector
+      {
+        newton,
+        kinsol
+      };
+      Corrector corrector = Corrector::newton;
+      /// Solve an indefinite tangent by LU (else the step fails).
+      bool indefinite_lu = false;
+      /// Accept an equilibrium whose tangent is not positive definite.
+      bool accept_unstable = false;
+      /// Test every load step's equilibrium for stability (Cholesky of its
+      /// tangent), not only those reached through an indefinite tangent:
+      /// set by the model for a law that loses stability under compression
+      /// (St. Venant-Kirchhoff), since CG can pass an indefinite tangent
+      /// unnoticed.
+      bool check_stability = false;
 
       static void
       declare_parameters(ParameterHandler &prm);
@@ -59,8 +116,16 @@ namespace softface
 
     struct Report
     {
-      unsigned int              load_steps        = 0;
-      unsigned int              cutbacks          = 0;
+      unsigned int load_steps = 0;
+      unsigned int cutbacks   = 0;
+      /// Predictors whose free part was halved until the state was valid.
+      unsigned int damped_predictors = 0;
+      /// Secant predictors refused (an inverted element): tangent instead.
+      unsigned int secant_fallbacks = 0;
+      double       load_reached     = 0.;
+      /// Newton systems whose tangent was not positive definite, solved
+      /// by LU ('Indefinite tangent = lu').
+      unsigned int              indefinite_solves = 0;
       unsigned int              newton_iterations = 0;
       unsigned int              linear_iterations = 0;
       unsigned int              amg_rebuilds      = 0;
@@ -92,6 +157,26 @@ namespace softface
                            const Vector<double> *bone,
                            const unsigned int    max_active_set_rounds);
 
+    /// The report of the solve running or last ended (also one that
+    /// threw).
+    const Report &
+    report_so_far() const
+    {
+      return report;
+    }
+
+    /**
+     * The join DoFs' target at a load in (0, 1] and, with vertex
+     * constraints, the bone displacement at the sliding vertices there,
+     * instead of the load times the final ones. Used if
+     * Parameters::rigid_path.
+     */
+    using Path = std::function<void(const double    load,
+                                    Vector<double> &join_target,
+                                    Vector<double> &bone)>;
+    void
+    set_path(const Path &path);
+
     /**
      * Carry @p u (zero on entry) to equilibrium with its join DoFs at
      * @p join_motion and, if not null, the external nodal forces
@@ -117,14 +202,55 @@ namespace softface
       unsigned int iterations = 0;
       double       residual   = 0.;
       std::string  reason;
+      /// The step converged to an equilibrium that is not stable.
+      bool unstable = false;
     };
 
+    /// @p guess, if not null, is a start for the step with its join DoFs
+    /// at @p target (the secant or join-only predictor); if the
+    /// discretisation refuses it, the tangent predictor runs instead
+    /// (join only: the step fails).
     StepResult
     step(Vector<double>       &u,
          const Vector<double> &target,
          const double          load,
          TimerOutput          &timer,
-         std::ostream         *progress);
+         std::ostream         *progress,
+         const Vector<double> *guess = nullptr);
+
+    /// The corrector iterations of a step by KINSOL, from @p u (the
+    /// predictor's state, join DoFs at the step's target).
+    /// @p indefinite_predictor: the predictor solved an indefinite
+    /// tangent (the equilibrium must then be tested for stability).
+    StepResult
+    kinsol_step(Vector<double> &u,
+                const double    load,
+                TimerOutput    &timer,
+                StepResult      result,
+                const bool      indefinite_predictor);
+
+    /// The Newton system with the current tangent (eliminated and
+    /// condensed); an indefinite one by LU if Parameters::indefinite_lu
+    /// (then converged and not_positive_definite are both set).
+    LinearSolver::Result
+    solve_tangent(const Vector<double> &rhs, Vector<double> &du);
+
+    /// Whether the tangent at @p u is positive definite on the free DoFs
+    /// (false also if the state is refused). Overwrites the tangent.
+    bool
+    tangent_positive_definite(const Vector<double> &u,
+                              const double          load,
+                              TimerOutput          &timer);
+
+    /// What stopped the solve, for the failure message: the tangent at
+    /// @p u (converged at @p load), and whether the step to @p next found
+    /// only an unstable equilibrium.
+    std::string
+    diagnose_tangent(const Vector<double> &u,
+                     const double          load,
+                     const double          next,
+                     const bool            unstable_next,
+                     TimerOutput          &timer);
 
     const Parameters                   prm;
     const Evaluate                     evaluate;
@@ -147,6 +273,16 @@ namespace softface
     VertexConstraintSet  *constraints     = nullptr;
     const Vector<double> *bone            = nullptr;
     unsigned int          max_rounds      = 50;
+    Path                  path;
+    /// For the stability checks (its ordering reused).
+    SparseCholesky stability_cholesky;
+    /// The bone displacement at the current load on a path, and the load
+    /// factor the constraints apply to the bone vector (1 on a path).
+    Vector<double> bone_on_path;
+    const Vector<double> *
+    bone_now() const;
+    double
+    bone_factor(const double load) const;
   };
 } // namespace softface
 

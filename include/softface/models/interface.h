@@ -121,6 +121,18 @@ namespace softface
       void
       set_progress_stream(std::ostream *stream);
 
+      /// The prescribed displacement (like solve()'s) at a load in (0, 1].
+      using LoadPath = std::function<Vector<double>(const double load)>;
+      /**
+       * How the planning is reached by a model that applies it in load
+       * steps (the nonlinear ones): the simulator sets the rigid path, each
+       * moved bone turned and translated the load's fraction of its
+       * motion (Planning::prescribed_displacement()). None: the final
+       * displacement scaled by the load.
+       */
+      void
+      set_load_path(const LoadPath &path);
+
     protected:
       virtual void
       do_setup(const Scene &scene) = 0;
@@ -160,6 +172,7 @@ namespace softface
       warn(const std::string &message);
 
       std::ostream *progress = nullptr;
+      LoadPath      load_path;
 
     private:
       /// The phases the timer holds, in the order they first ran, and
