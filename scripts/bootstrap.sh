@@ -39,20 +39,22 @@ softface_ensure_packages()
 }
 
 # Configure (Release) and build in build/ with two jobs.
+# softface_build [cmake options...]: configure (once) and build. With
+# SOFTFACE_BUILD_TARGET set, only that target is built.
 softface_build()
 {
   local build_dir=${SOFTFACE_BUILD_DIR:-build}
   mkdir -p "$build_dir"
   if [ ! -f "$build_dir/CMakeCache.txt" ]; then
     echo "softface: configuring a Release build in $build_dir/"
-    cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release > "$build_dir/configure.log" 2>&1 || {
+    cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "$@" > "$build_dir/configure.log" 2>&1 || {
       cat "$build_dir/configure.log"
       echo "softface: cmake configuration failed (log above)"
       exit 1
     }
   fi
   echo "softface: building (2 jobs)"
-  cmake --build "$build_dir" -j2 || {
+  cmake --build "$build_dir" -j2 ${SOFTFACE_BUILD_TARGET:+--target "$SOFTFACE_BUILD_TARGET"} || {
     echo "softface: build failed"
     exit 1
   }

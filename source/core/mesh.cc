@@ -14,7 +14,10 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <sstream>
+
+#include <unistd.h>
 
 namespace softface
 {
@@ -85,6 +88,23 @@ namespace softface
       mirror_symmetric    = prm.get_bool("Mirror-symmetric split");
       upper_material_id   = prm.get_integer("Upper tissue material id");
       prm.leave_subsection();
+      // The least any model needs per tetrahedron: the mesh, its DoFs and
+      // one stiffness matrix, about 1 KB (1.05 KB measured with gmres
+      // jacobi between 197k and 511k tetrahedra, doc/results/linear_fem.md).
+      // A target past the machine's memory is refused before any work.
+      const double bytes_per_tetrahedron = 1024.;
+      const double memory =
+        double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+      if (memory > 0 && target_n_tetrahedra * bytes_per_tetrahedron > memory)
+        {
+          std::ostringstream m;
+          m << std::setprecision(3) << "Scene/Cube/Target number of tetrahedra"
+            << " = " << target_n_tetrahedra << " would need at least "
+            << target_n_tetrahedra * bytes_per_tetrahedron / 1073741824.
+            << " GB (about 1 KB per tetrahedron), more than this machine's "
+            << memory / 1073741824. << " GB of memory.";
+          throw Error(m.str());
+        }
       if (upper_material_id == cube_inner_id)
         throw Error("Scene/Cube/Upper tissue material id: 2 is the inner "
                     "cube's material id; choose another.");

@@ -2,6 +2,8 @@
 // parameter file, and the join points' prescribed displacement it gives on the
 // shared DoF layout; the input of every model's solve.
 
+#include <cmath>
+
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
@@ -116,6 +118,13 @@ namespace softface
                             ": 'Rotation centre' is not three numbers (got '" +
                             centre_text + "').");
               }
+            // strtod reads "nan" and "inf", which the other vectors'
+            // patterns refuse.
+            for (unsigned int d = 0; d < 3; ++d)
+              if (!std::isfinite(centre[d]))
+                throw Error("Planning/Motion " + name +
+                            ": 'Rotation centre' must be finite (got '" +
+                            centre_text + "').");
           }
         else
           {

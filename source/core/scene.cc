@@ -69,8 +69,9 @@ namespace softface
       "",
       Patterns::Anything(),
       "Mesh to read when 'Mesh source = file': gmsh .msh "
-      "(format 2 or 4.1; physical volumes give material ids, "
-      "physical surfaces boundary ids), legacy VTK .vtk, or VTK "
+      "(ASCII formats 1, 2 or 4.1; physical volumes give material "
+      "ids, physical surfaces boundary ids), legacy VTK .vtk "
+      "(ASCII; cell data MaterialID), or VTK "
       "XML .vtu (ascii, binary or appended raw, zlib or not; cell "
       "data MaterialID, material_id or gmsh:physical). Relative "
       "to the parameter file's folder.");

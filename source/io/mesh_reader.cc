@@ -5,7 +5,9 @@
 #include <deal.II/grid/grid_in.h>
 
 #include <softface/core/error.h>
+#include <softface/io/gmsh_reader.h>
 #include <softface/io/mesh_reader.h>
+#include <softface/io/vtk_reader.h>
 #include <softface/io/vtu_reader.h>
 
 #include <fstream>
@@ -32,10 +34,18 @@ namespace softface
       GridIn<3> grid_in(triangulation);
       try
         {
+          // softface's own readers: deal.II's check their input with
+          // debug-only assertions (issue 15).
           if (extension == "msh")
-            grid_in.read_msh(in);
+            {
+              MeshData data = read_gmsh(filename);
+              build_triangulation(data, filename, triangulation);
+            }
           else if (extension == "vtk")
-            grid_in.read_vtk(in);
+            {
+              MeshData data = read_legacy_vtk(filename);
+              build_triangulation(data, filename, triangulation);
+            }
           else if (extension == "vtu")
             {
               // deal.II reads only its own serialised .vtu; everything else

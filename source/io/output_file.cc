@@ -3,6 +3,9 @@
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
 
+#include <filesystem>
+#include <system_error>
+
 namespace softface
 {
   std::ofstream
@@ -12,5 +15,16 @@ namespace softface
     if (!out)
       throw Error("Cannot write '" + filename + "'.");
     return out;
+  }
+
+  void
+  create_output_directory(const std::string &directory)
+  {
+    std::error_code error;
+    std::filesystem::create_directories(directory, error);
+    if (error || !std::filesystem::is_directory(directory))
+      throw Error("Cannot create the output directory '" + directory + "' (" +
+                  (error ? error.message() : std::string("not a directory")) +
+                  ").");
   }
 } // namespace softface

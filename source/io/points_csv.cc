@@ -6,9 +6,12 @@
 #include <softface/io/points_csv.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <vector>
 
 namespace softface
 {
@@ -24,19 +27,37 @@ namespace softface
     while (std::getline(in, line))
       {
         ++line_number;
+        if (!line.empty() && line.back() == '\r')
+          line.pop_back();
         if (line.empty() || line[0] == '#')
           continue;
         std::replace(line.begin(), line.end(), ',', ' ');
-        std::istringstream fields(line);
-        Point<3>           p;
-        if (!(fields >> p[0] >> p[1] >> p[2]))
+        std::istringstream       split(line);
+        std::vector<std::string> fields;
+        for (std::string field; split >> field;)
+          fields.push_back(field);
+        // Each field as a number, strictly (strtod on the whole field).
+        std::vector<double> values;
+        for (const auto &field : fields)
           {
-            if (line_number == 1)
-              continue; // header
-            throw Error(filename + ":" + std::to_string(line_number) +
-                        ": expected three coordinates x,y,z.");
+            char        *end   = nullptr;
+            const double value = std::strtod(field.c_str(), &end);
+            if (end == field.c_str() + field.size())
+              values.push_back(value);
           }
-        points.push_back(p);
+        // The first line is a header only if no field is a number: a
+        // first point with a typo must not vanish as a "header".
+        if (line_number == 1 && values.empty())
+          continue;
+        const std::string where =
+          filename + ":" + std::to_string(line_number) + ": ";
+        if (fields.size() != 3 || values.size() != 3)
+          throw Error(where + "expected three numbers x,y,z (got '" +
+                      line.substr(0, 60) + "').");
+        for (const double v : values)
+          if (!std::isfinite(v))
+            throw Error(where + "a coordinate is not finite.");
+        points.emplace_back(values[0], values[1], values[2]);
       }
     if (points.empty())
       throw Error("Evaluation points file '" + filename + "' has no points.");

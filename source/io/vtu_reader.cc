@@ -10,6 +10,7 @@
 #include <deal.II/grid/tria_description.h>
 
 #include <softface/core/error.h>
+#include <softface/io/mesh_data.h>
 #include <softface/io/vtu_reader.h>
 
 #include <boost/property_tree/ptree.hpp>
@@ -673,6 +674,7 @@ namespace softface
     void
     read_vtu(const std::string &filename, Triangulation<3> &triangulation)
     {
+      MeshData data;
       try
         {
           const VtuFile              file(filename);
@@ -745,15 +747,22 @@ namespace softface
 
           if (pieces.size() > 1)
             merge_across_pieces(vertices, piece_of_vertex, cells, faces);
-          GridTools::delete_unused_vertices(vertices, cells, faces);
-          triangulation.clear();
-          triangulation.create_triangulation(vertices, cells, faces);
+          data.vertices = std::move(vertices);
+          data.cells    = std::move(cells);
+          data.faces    = std::move(faces);
         }
       catch (const std::exception &e)
         {
           throw Error("Cannot read mesh file '" + filename +
                       "': " + error_message(e) + ".");
         }
+      // Tetrahedra and triangles numbered in the order of the file.
+      data.element_word = "cell";
+      for (std::size_t c = 0; c < data.cells.size(); ++c)
+        data.cell_origins.push_back({std::int64_t(c), 0});
+      for (std::size_t f = 0; f < data.faces.boundary_quads.size(); ++f)
+        data.face_origins.push_back({std::int64_t(f), 0});
+      build_triangulation(data, filename, triangulation);
     }
   } // namespace Mesh
 } // namespace softface

@@ -258,7 +258,12 @@ namespace softface
     std::vector<std::string>
     selected_names(ParameterHandler &prm)
     {
-      return registry().selected(prm);
+      const auto names = registry().selected(prm);
+      // An empty list would run nothing and succeed.
+      if (names.empty())
+        throw Error("Models/Models: no model is named (available: " +
+                    registry().joined_names() + ").");
+      return names;
     }
 
     std::unique_ptr<Interface>

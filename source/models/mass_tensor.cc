@@ -92,8 +92,12 @@ namespace softface
     void
     MassTensor::parse_parameters(ParameterHandler &prm)
     {
-      gauss_seidel            = prm.get("Ordering") == "gauss-seidel";
-      relaxation              = prm.get_double("Relaxation factor");
+      gauss_seidel = prm.get("Ordering") == "gauss-seidel";
+      relaxation   = prm.get_double("Relaxation factor");
+      // Zero would never move a point, and report success.
+      if (!(relaxation > 0.))
+        throw Error("mass tensor: 'Relaxation factor' must be positive (got " +
+                    prm.get("Relaxation factor") + ").");
       stop_gradient_threshold = prm.get_double("Stop gradient threshold");
       gradient_window         = prm.get_integer("Gradient window");
       use_active_set          = prm.get_bool("Active set");

@@ -24,6 +24,7 @@
 #include <softface/simulator/skin_output.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -155,6 +156,44 @@ namespace softface
     {
       prm.parse_input(filename, "", /*skip_undefined=*/true);
     }
+
+    /**
+     * Follow the 'include' lines of a parameter file before deal.II does:
+     * it would recurse without end on a file that includes itself. Paths
+     * are read as deal.II reads them (relative to the working directory).
+     */
+    void
+    check_includes(const std::string &filename, std::vector<std::string> chain)
+    {
+      constexpr unsigned int max_depth = 10;
+      chain.push_back(filename);
+      std::ifstream in(filename);
+      std::string   line;
+      for (unsigned int number = 1; std::getline(in, line); ++number)
+        {
+          const auto hash = line.find('#');
+          if (hash != std::string::npos)
+            line.erase(hash);
+          line = Utilities::trim(line);
+          if (line.rfind("include", 0) != 0 ||
+              (line.size() > 7 && !std::isspace(line[7])))
+            continue;
+          const std::string included = Utilities::trim(line.substr(7));
+          const std::string where =
+            filename + ":" + std::to_string(number) + ": ";
+          if (std::find(chain.begin(), chain.end(), included) != chain.end())
+            throw Error(where + "'include " + included +
+                        "' includes a file that is already being read.");
+          if (chain.size() >= max_depth)
+            throw Error(where + "'include' nested deeper than " +
+                        std::to_string(max_depth) + " files.");
+          if (!std::filesystem::is_regular_file(included) ||
+              !std::ifstream(included))
+            throw Error(where + "cannot open included file '" + included +
+                        "'.");
+          check_includes(included, chain);
+        }
+    }
   } // namespace
 
   void
@@ -174,8 +213,11 @@ namespace softface
   void
   Simulator::read_parameters(const std::string &filename, ParameterHandler &prm)
   {
-    if (!std::ifstream(filename))
-      throw Error("Cannot open parameter file '" + filename + "'.");
+    // A directory opens as a stream on Linux (and reads as empty).
+    if (!std::filesystem::is_regular_file(filename) || !std::ifstream(filename))
+      throw Error("Cannot open parameter file '" + filename +
+                  "' (not a readable file).");
+    check_includes(filename, {});
 
     ParameterHandler first_pass;
     declare_parameters(first_pass, {}, {});
@@ -339,7 +381,7 @@ namespace softface
         throw Error(filename + ": " + e.what());
       }
 
-    std::filesystem::create_directories(output.directory);
+    create_output_directory(output.directory);
     std::filesystem::copy_file(
       filename,
       output.directory + "/input.prm",

@@ -245,7 +245,7 @@ namespace softface
                       std::to_string(skin.points.size()) +
                       " are in masked boxes or out of the mesh's reach).");
       }
-    std::filesystem::create_directories(directory);
+    create_output_directory(directory);
     for (const std::string extension : {".ply", ".vtp"})
       {
         Patient::write_surface(to_patient(skin),

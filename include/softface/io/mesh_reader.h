@@ -12,9 +12,9 @@ namespace softface
   namespace Mesh
   {
     /**
-     * Read a tetrahedral mesh: gmsh .msh (format 2 or 4.1; physical volumes
-     * become material ids, physical surfaces boundary ids), legacy VTK .vtk
-     * (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
+     * Read a tetrahedral mesh: gmsh .msh (ASCII format 1, 2 or 4.1; physical
+     * volumes become material ids, physical surfaces boundary ids), legacy VTK
+     * .vtk (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
      * serialised .vtu too). Errors name the file.
      */
     void

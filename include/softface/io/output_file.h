@@ -9,6 +9,13 @@ namespace softface
   /// A file opened for writing, or a clear error naming it.
   std::ofstream
   open_output_file(const std::string &filename);
+
+  /**
+   * Create @p directory (and its parents) for output, or throw one clear
+   * error naming it and why (instead of std::filesystem's).
+   */
+  void
+  create_output_directory(const std::string &directory);
 } // namespace softface
 
 #endif
