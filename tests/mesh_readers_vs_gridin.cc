@@ -11,6 +11,7 @@
 
 #include <fstream>
 #include <map>
+#include <sstream>
 
 using namespace softface;
 
@@ -78,13 +79,33 @@ namespace
 SOFTFACE_TEST(mesh_readers_vs_gridin)
 {
   const std::string data = SOFTFACE_TESTS_SOURCE_DIR "/data/";
+  // The VTK seed with point data (and a field) before its cell data: the
+  // material ids must still be found.
+  {
+    std::ifstream     in(data + "mesh_seeds/box.vtk");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string       vtk  = text.str();
+    const std::size_t cell = vtk.find("CELL_DATA");
+    std::string       point_data =
+      "POINT_DATA 148\nSCALARS temperature double 1\nLOOKUP_TABLE default\n";
+    for (unsigned int i = 0; i < 148; ++i)
+      point_data += std::to_string(i % 7) + (i % 10 == 9 ? "\n" : " ");
+    point_data += "\nVECTORS velocity float\n";
+    for (unsigned int i = 0; i < 148; ++i)
+      point_data += "0 1 2\n";
+    std::ofstream("box_point_data_first.vtk")
+      << vtk.substr(0, cell) << point_data << vtk.substr(cell);
+  }
   for (const std::string file : {"mesh_seeds/box41.msh",
                                  "mesh_seeds/box22.msh",
                                  "mesh_seeds/box.vtk",
+                                 "box_point_data_first.vtk",
                                  "offcentre_coarse/mesh.msh"})
     {
-      const std::string path = data + file;
-      Triangulation<3>  by_gridin, by_softface;
+      const std::string path =
+        (file.find('/') == std::string::npos ? "" : data) + file;
+      Triangulation<3> by_gridin, by_softface;
       {
         GridIn<3>     grid_in(by_gridin);
         std::ifstream in(path);

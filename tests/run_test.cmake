@@ -2,6 +2,13 @@
 #   MODE=deallog: COMMAND ARGUMENT must exit 0; its stdout is compared with numdiff.
 #   MODE=error:   COMMAND ARGUMENT must exit non-zero; "exit code != 0" plus its stderr
 #                 is compared exactly (the message is part of the interface).
+#   SCRATCH (optional): WORKING_DIRECTORY is copied there and the test runs in
+#                 the copy, so that whatever it writes stays in the build tree.
+if(SCRATCH)
+  file(REMOVE_RECURSE ${SCRATCH})
+  file(COPY ${WORKING_DIRECTORY}/ DESTINATION ${SCRATCH})
+  set(WORKING_DIRECTORY ${SCRATCH})
+endif()
 execute_process(COMMAND ${COMMAND} ${ARGUMENT}
   WORKING_DIRECTORY ${WORKING_DIRECTORY}
   OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)

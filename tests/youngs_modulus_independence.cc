@@ -1,7 +1,10 @@
 // With homogeneous tissue and only prescribed displacements, the answer does
 // not depend on Young's modulus (seed 3.4), for every registered model with
 // its default parameters, while it does depend on Poisson's ratio (so the
-// comparison can tell a wrong material apart).
+// comparison can tell a wrong material apart). Also at both ends of the
+// range softface accepts (1e-3 and 1e13 Pa): far below it forces underflow
+// (at 1e-200 Pa the nonlinear model once returned u = 0 as "converged" and
+// CG's residual became NaN; issue 15).
 
 #include <softface/models/interface.h>
 
@@ -42,6 +45,14 @@ SOFTFACE_TEST(youngs_modulus_independence)
                                   softface_tests::relative_difference(stiff,
                                                                       soft),
                                   1e-8);
+      // The ends of the accepted range (Material::min/max_youngs_modulus_pa).
+      for (const double E :
+           {Material::min_youngs_modulus_pa, Material::max_youngs_modulus_pa})
+        softface_tests::check_below(
+          name + ": E = 3 kPa vs " + softface_tests::rounded(E) +
+            " Pa: relative difference",
+          softface_tests::relative_difference(solve(name, E, 0.46), soft),
+          1e-8);
     }
   const Vector<double> soft  = solve("linear fem", 3000., 0.46);
   const Vector<double> other = solve("linear fem", 3000., 0.30);

@@ -10,6 +10,14 @@
 namespace softface
 {
   std::string
+  number_text(const double value)
+  {
+    std::ostringstream s;
+    s << value;
+    return s.str();
+  }
+
+  std::string
   error_message(const std::exception &exception)
   {
     std::string text;

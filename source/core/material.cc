@@ -13,8 +13,10 @@ namespace softface
     prm.enter_subsection("Material");
     prm.declare_entry("Young's modulus",
                       "3000",
-                      Patterns::Double(0., Patterns::Double::max_double_value),
-                      "Young's modulus of the soft tissue in Pa. With only "
+                      Patterns::Double(min_youngs_modulus_pa,
+                                       max_youngs_modulus_pa),
+                      "Young's modulus of the soft tissue in Pa, in [1e-3, "
+                      "1e13]. With only "
                       "prescribed displacements and homogeneous tissue the "
                       "displacement does not depend on it (seed 3.4).");
     prm.declare_entry("Poisson's ratio",
@@ -25,18 +27,27 @@ namespace softface
   }
 
   void
+  Material::check_youngs_modulus(const double E, const std::string &where)
+  {
+    if (!(E >= min_youngs_modulus_pa && E <= max_youngs_modulus_pa))
+      throw Error(where + ": " + number_text(E) + " Pa is outside [" +
+                  number_text(min_youngs_modulus_pa) + ", " +
+                  number_text(max_youngs_modulus_pa) +
+                  "] Pa, the range softface's solvers are checked in (soft "
+                  "tissue is about 1e3 to 1e5 Pa).");
+  }
+
+  void
   Material::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
     youngs_modulus_pa = prm.get_double("Young's modulus");
     poissons_ratio    = prm.get_double("Poisson's ratio");
     prm.leave_subsection();
-    if (!(youngs_modulus_pa > 0.))
-      throw Error("Material: Young's modulus must be positive (got " +
-                  std::to_string(youngs_modulus_pa) + " Pa).");
+    check_youngs_modulus(youngs_modulus_pa, "Material/Young's modulus");
     if (!(poissons_ratio < 0.5))
       throw Error("Material: Poisson's ratio must be below 0.5 (got " +
-                  std::to_string(poissons_ratio) +
+                  number_text(poissons_ratio) +
                   "); 0.5 is incompressible, which P1 elements lock on.");
   }
 

@@ -111,9 +111,9 @@ namespace softface
       if (!(edge_length > 0.) || !(inner_size > 0.) ||
           !(inner_size < edge_length))
         throw Error("Scene/Cube: the inner region size (" +
-                    std::to_string(inner_size) +
+                    number_text(inner_size) +
                     " mm) must be positive and smaller than the edge length (" +
-                    std::to_string(edge_length) + " mm).");
+                    number_text(edge_length) + " mm).");
     }
 
     void

@@ -58,10 +58,9 @@ namespace softface
         if (youngs_moduli.empty())
           throw Error("Young's moduli: no material id is listed.");
         for (const auto &[id, E] : youngs_moduli)
-          if (!(E > 0.))
-            throw Error("Young's moduli: material id " + std::to_string(id) +
-                        " has a modulus of " + Utilities::to_string(E) +
-                        " Pa; it must be positive.");
+          Material::check_youngs_modulus(E,
+                                         "Young's moduli: material id " +
+                                           std::to_string(id));
         for (const auto &[id, nu] : poissons_ratios)
           {
             if (!(nu >= 0. && nu < 0.5))

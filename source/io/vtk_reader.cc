@@ -3,13 +3,12 @@
 // type that does not match its point count overflowed the heap, issue 15);
 // this reader checks every word before the mesh is built.
 
+#include <softface/core/error.h>
 #include <softface/io/text_tokens.h>
 #include <softface/io/vtk_reader.h>
 
 #include <cmath>
-#include <iomanip>
 #include <limits>
-#include <sstream>
 
 namespace softface
 {
@@ -20,14 +19,6 @@ namespace softface
       constexpr std::int64_t max_index = std::numeric_limits<int>::max();
       constexpr double       max_id =
         std::numeric_limits<types::material_id>::max() - 1.;
-
-      std::string
-      number_text(const double value)
-      {
-        std::ostringstream s;
-        s << std::setprecision(15) << value;
-        return s.str();
-      }
 
       bool
       is_id_name(const std::string &name)
@@ -78,16 +69,9 @@ namespace softface
               else if (keyword == "CELL_TYPES")
                 cell_types();
               else if (keyword == "CELL_DATA")
-                {
-                  cell_data();
-                  if (skip_rest)
-                    break;
-                }
+                data_section(true);
               else if (keyword == "POINT_DATA")
-                {
-                  // Nothing softface needs follows; read no further.
-                  break;
-                }
+                data_section(false);
               else if (keyword == "FIELD")
                 field(false);
               else if (keyword == "METADATA")
@@ -247,46 +231,58 @@ namespace softface
           have_types = true;
         }
 
-        // Values of one array of n_tuples x n_components: kept if it holds
-        // the ids (the first such array), else read past.
+        // Values of one array of n_tuples x n_components: the ids if @p keep
+        // (checked whole numbers), else read past unparsed.
         void
         array_values(const std::string  &name,
                      const std::uint64_t n_tuples,
-                     const std::uint64_t n_components)
+                     const std::uint64_t n_components,
+                     const bool          keep)
         {
-          const bool keep = is_id_name(name) && ids.empty();
           if (keep && n_components != 1)
             in.fail("the cell data '" + name + "' has " +
                     std::to_string(n_components) + " components, not 1");
           if (n_tuples * n_components > in.count_limit())
-            in.fail("the cell data '" + name +
+            in.fail("the data '" + name +
                     "' holds more values than the rest of the file can");
           for (std::uint64_t i = 0; i < n_tuples * n_components; ++i)
             {
-              const double value = in.real("a value of '" + name + "'");
-              if (keep)
+              if (!keep)
                 {
-                  if (!(value >= 0 && value <= max_id &&
-                        value == std::floor(value)))
-                    in.fail("cell " + std::to_string(i) + " has " + name + " " +
-                            number_text(value) +
-                            "; ids must be whole numbers from 0 to " +
-                            std::to_string(std::int64_t(max_id)));
-                  ids.push_back(value);
+                  in.word("a value of '" + name + "'");
+                  continue;
                 }
+              const double value = in.real("a value of '" + name + "'");
+              if (!(value >= 0 && value <= max_id &&
+                    value == std::floor(value)))
+                in.fail("cell " + std::to_string(i) + " has " + name + " " +
+                        number_text(value) +
+                        "; ids must be whole numbers from 0 to " +
+                        std::to_string(std::int64_t(max_id)));
+              ids.push_back(value);
             }
         }
 
+        // CELL_DATA or POINT_DATA: its arrays up to the next such section.
+        // The ids are the first cell array with an id name.
         void
-        cell_data()
+        data_section(const bool cells)
         {
-          const std::uint64_t n = in.count("the number of cell data", 1);
-          if (n != cell_points.size())
-            in.fail("CELL_DATA lists " + std::to_string(n) +
-                    " cells, but CELLS " + std::to_string(cell_points.size()));
-          while (!in.at_end())
+          const std::string   section = cells ? "CELL_DATA" : "POINT_DATA";
+          const std::uint64_t n       = in.count("the size of " + section, 1);
+          const std::uint64_t expected =
+            cells ? cell_points.size() : data.vertices.size();
+          if (n != expected)
+            in.fail(section + " lists " + std::to_string(n) + " " +
+                    (cells ? "cells" : "points") + ", but the mesh has " +
+                    std::to_string(expected));
+          while (!in.at_end() && !in.next_is("CELL_DATA") &&
+                 !in.next_is("POINT_DATA"))
             {
-              const std::string kind(in.word("a cell data array"));
+              const std::string kind(in.word("a data array"));
+              const auto        keep = [&](const std::string &name) {
+                return cells && is_id_name(name) && ids.empty();
+              };
               if (kind == "SCALARS")
                 {
                   const std::string name(in.word("the array's name"));
@@ -305,36 +301,47 @@ namespace softface
                       in.expect("LOOKUP_TABLE");
                     }
                   in.word("the lookup table's name");
-                  array_values(name, n, components);
+                  array_values(name, n, components, keep(name));
                 }
               else if (kind == "VECTORS" || kind == "NORMALS" ||
                        kind == "TENSORS")
                 {
                   const std::string name(in.word("the array's name"));
                   in.word("the array's data type");
-                  array_values(name, n, kind == "TENSORS" ? 9 : 3);
+                  array_values(name, n, kind == "TENSORS" ? 9 : 3, false);
+                }
+              else if (kind == "TEXTURE_COORDINATES")
+                {
+                  const std::string  name(in.word("the array's name"));
+                  const std::int64_t dim = in.integer("a dimension", 1, 3);
+                  in.word("the array's data type");
+                  array_values(name, n, dim, false);
+                }
+              else if (kind == "COLOR_SCALARS")
+                {
+                  const std::string  name(in.word("the array's name"));
+                  const std::int64_t m = in.integer("a value count", 1, 4);
+                  array_values(name, n, m, false);
+                }
+              else if (kind == "LOOKUP_TABLE")
+                {
+                  const std::string   name(in.word("the table's name"));
+                  const std::uint64_t size = in.count("a table size", 4);
+                  array_values(name, size, 4, false);
                 }
               else if (kind == "FIELD")
-                field(true);
+                field(cells);
               else if (kind == "METADATA")
                 metadata();
-              else if (kind == "POINT_DATA" || kind == "CELL_DATA")
-                {
-                  // Stop: POINT_DATA holds nothing softface reads.
-                  if (kind == "CELL_DATA")
-                    in.fail("a second CELL_DATA section");
-                  skip_rest = true;
-                  return;
-                }
               else
-                in.fail("unexpected '" + kind.substr(0, 40) + "' in CELL_DATA");
+                in.fail("unexpected '" + kind.substr(0, 40) + "' in " +
+                        section);
             }
         }
 
-        bool skip_rest = false;
-
+        // FIELD data: of the dataset (e.g. TIME), of the cells or points.
         void
-        field(const bool cell_data)
+        field(const bool cells)
         {
           in.word("the field's name");
           const std::uint64_t n = in.count("the number of field arrays", 4);
@@ -346,19 +353,12 @@ namespace softface
               const std::uint64_t tuples =
                 in.count("the array's tuple count", 1);
               in.word("the array's data type");
-              if (cell_data && is_id_name(name) && ids.empty() &&
-                  tuples != cell_points.size())
+              const bool keep = cells && is_id_name(name) && ids.empty();
+              if (keep && tuples != cell_points.size())
                 in.fail("the field array '" + name + "' has " +
                         std::to_string(tuples) + " tuples for " +
                         std::to_string(cell_points.size()) + " cells");
-              if (!cell_data)
-                {
-                  // Dataset field data (e.g. TIME): not the ids.
-                  for (std::uint64_t i = 0; i < tuples * components; ++i)
-                    in.real("a value of '" + name + "'");
-                }
-              else
-                array_values(name, tuples, components);
+              array_values(name, tuples, components, keep);
               if (in.next_is("METADATA"))
                 {
                   in.word("METADATA");

@@ -55,6 +55,11 @@ namespace softface
       max_step_fraction = prm.get_double("Maximum step fraction");
       max_sweeps        = prm.get_integer("Maximum sweeps");
       prevent_inversion = prm.get_bool("Prevent inversion");
+      // Zero would ask for infinitely many load steps.
+      if (!(max_step_fraction > 0.))
+        throw Error("mass spring: 'Maximum step fraction' must be positive "
+                    "(got " +
+                    prm.get("Maximum step fraction") + ").");
     }
 
     void
@@ -296,12 +301,26 @@ namespace softface
                          spring_list[spring_of[i]].rest_length);
           }
       // A load alone (no bone moves) still needs one step.
-      const unsigned int n_load_steps =
+      const double steps_needed =
         moving_joins.empty() && !surface_moves ?
           (load != nullptr ? 1 : 0) :
           std::max(1.,
                    std::ceil(largest_motion /
                              (max_step_fraction * shortest_at_join)));
+      // A motion far larger than the mesh (or a tiny step fraction) would
+      // take more load steps than any run can: say so rather than overflow.
+      constexpr double max_load_steps = 1e6;
+      if (!(steps_needed <= max_load_steps))
+        {
+          std::ostringstream m;
+          m << std::setprecision(3) << "mass spring: the largest join motion ("
+            << largest_motion << " mm) in steps of 'Maximum step fraction' ("
+            << max_step_fraction << ") times the shortest spring at a join "
+            << "point (" << shortest_at_join << " mm) needs " << steps_needed
+            << " load steps, more than " << max_load_steps << ".";
+          throw Error(m.str());
+        }
+      const unsigned int n_load_steps = steps_needed;
 
       double initial = 0.;
       for (const unsigned int j : moving_joins)

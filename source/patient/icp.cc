@@ -187,7 +187,7 @@ namespace softface
             }
           if (pairs.size() < 3)
             throw Error("ICP: fewer than three point pairs lie within " +
-                        std::to_string(rejection) +
+                        number_text(rejection) +
                         " mm of each other; the start is too far off.");
           result.n_pairs = pairs.size();
           result.rms     = std::sqrt(sum_squares / pairs.size());

@@ -405,6 +405,30 @@ namespace softface
       }
 
     const Vector<double> prescribed = planning.prescribed_displacement(scene);
+    {
+      // A join point moved by many times the mesh's size is a planning in
+      // the wrong units (or a typo), not surgery: refused before any model
+      // runs into overflow.
+      const auto &vertices = scene.triangulation.get_vertices();
+      Point<3>    low = vertices[0], high = vertices[0];
+      for (const auto &x : vertices)
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            low[d]  = std::min(low[d], x[d]);
+            high[d] = std::max(high[d], x[d]);
+          }
+      const double size = low.distance(high);
+      if (!(prescribed.linfty_norm() <= 10. * size))
+        {
+          std::ostringstream m;
+          m << std::setprecision(3) << filename
+            << ": the planning moves a join point by "
+            << prescribed.linfty_norm() << " mm, more than ten times the "
+            << "mesh's size (" << size << " mm); check Planning's "
+            << "translations and rotation centres (mm).";
+          throw Error(m.str());
+        }
+    }
 
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says

@@ -19,6 +19,14 @@ namespace softface
     {}
   };
 
+  /**
+   * A number as a message writes it: six significant digits, exponent
+   * where needed ("1e-300", "3000", "0.46"), never std::to_string's fixed
+   * six decimals (0.000000 for 1e-7, 300 digits for 1e300).
+   */
+  std::string
+  number_text(double value);
+
   /// The message of any exception, without deal.II's stack-trace framing.
   std::string
   error_message(const std::exception &exception);

@@ -3,6 +3,8 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <string>
+
 namespace softface
 {
   using namespace dealii;
@@ -39,6 +41,19 @@ namespace softface
     /// Both Lame coefficients.
     Lame
     lame() const;
+
+    /**
+     * Young's moduli softface accepts, in Pa. Far outside this range the
+     * stiffness and force norms of the solvers under- or overflow (at 1e-200
+     * Pa CG's residual became NaN); tests/youngs_modulus_independence checks
+     * that both ends give the answer of 3 kPa with every model.
+     */
+    static constexpr double min_youngs_modulus_pa = 1e-3;
+    static constexpr double max_youngs_modulus_pa = 1e13;
+
+    /// Throw softface::Error, naming @p where, unless @p E is in range.
+    static void
+    check_youngs_modulus(const double E, const std::string &where);
 
     double youngs_modulus_pa = 3000.;
     double poissons_ratio    = 0.46;
