@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <unordered_map>
+#include <utility>
 
 namespace softface
 {
@@ -152,10 +153,7 @@ namespace softface
           const std::uint64_t n = in.count("the number of elements", 6);
           for (std::uint64_t i = 0; i < n; ++i)
             {
-              const std::int64_t number =
-                in.integer("an element number", 1, max_tag);
-              const std::int64_t type = in.integer("an element type", 0);
-              check_type(type, "element " + std::to_string(number));
+              const auto [number, type] = element_head();
               const std::int64_t physical =
                 in.integer("a physical tag", -max_tag, max_tag);
               in.integer("an elementary tag", -max_tag, max_tag);
@@ -228,19 +226,22 @@ namespace softface
                     std::to_string(max_id));
           const MeshData::Origin origin{number, in.line()};
           if (type == 4)
-            {
-              data.cells.emplace_back(4);
-              data.cells.back().vertices    = vertices;
-              data.cells.back().material_id = id;
-              data.cell_origins.push_back(origin);
-            }
+            data.add_tetrahedron(vertices, id, origin);
           else if (type == 2)
-            {
-              data.faces.boundary_quads.emplace_back(3);
-              data.faces.boundary_quads.back().vertices    = vertices;
-              data.faces.boundary_quads.back().boundary_id = id;
-              data.face_origins.push_back(origin);
-            }
+            data.add_triangle(vertices, id, origin);
+        }
+
+        // The start of an element line in formats 1 and 2: its number and
+        // its (known) type.
+        std::pair<std::int64_t, std::int64_t>
+        element_head()
+        {
+          const std::int64_t number =
+            in.integer("an element number", 1, max_tag);
+          const std::int64_t type = in.integer("an element type", 0);
+          if (nodes_of_type(type) == 0)
+            check_type(type, "element " + std::to_string(number));
+          return {number, type};
         }
 
         void
@@ -270,10 +271,7 @@ namespace softface
           const std::uint64_t n = in.count("the number of elements", 4);
           for (std::uint64_t i = 0; i < n; ++i)
             {
-              const std::int64_t number =
-                in.integer("an element number", 1, max_tag);
-              const std::int64_t type = in.integer("an element type", 0);
-              check_type(type, "element " + std::to_string(number));
+              const auto [number, type]   = element_head();
               const std::int64_t n_tags   = in.integer("a tag count", 0, 64);
               std::int64_t       physical = 0;
               for (std::int64_t t = 0; t < n_tags; ++t)
@@ -389,9 +387,10 @@ namespace softface
               const std::int64_t entity =
                 in.integer("an entity tag", -max_tag, max_tag);
               const std::int64_t type = in.integer("an element type", 0);
-              check_type(type,
-                         "the element block of entity " +
-                           std::to_string(entity));
+              if (nodes_of_type(type) == 0)
+                check_type(type,
+                           "the element block of entity " +
+                             std::to_string(entity));
               const std::int64_t type_dim = type == 4 ? 3 :
                                             type == 2 ? 2 :
                                             type == 1 ? 1 :

@@ -26,6 +26,28 @@ namespace softface
                                  " (line " + std::to_string(origin.line) + ")");
     }
 
+    void
+    MeshData::add_tetrahedron(const std::vector<unsigned int> &points,
+                              const types::material_id         id,
+                              const Origin                    &origin)
+    {
+      cells.emplace_back(4);
+      cells.back().vertices    = points;
+      cells.back().material_id = id;
+      cell_origins.push_back(origin);
+    }
+
+    void
+    MeshData::add_triangle(const std::vector<unsigned int> &points,
+                           const types::boundary_id         id,
+                           const Origin                    &origin)
+    {
+      faces.boundary_quads.emplace_back(3);
+      faces.boundary_quads.back().vertices    = points;
+      faces.boundary_quads.back().boundary_id = id;
+      face_origins.push_back(origin);
+    }
+
     namespace
     {
       using Triangle = std::array<unsigned int, 3>;
@@ -61,16 +83,18 @@ namespace softface
             fail("point " + std::to_string(v) +
                  " has a coordinate that is not finite");
 
+      // The element's name is only made for a message (not per cell).
       const auto check_indices = [&](const std::vector<unsigned int> &vs,
-                                     const std::string               &name) {
+                                     const MeshData::Origin          &origin) {
         for (const unsigned int v : vs)
           if (v >= n_vertices)
-            fail(name + " refers to point index " + std::to_string(v) +
-                 ", but there are " + std::to_string(n_vertices) + " points");
+            fail(data.name(origin) + " refers to point index " +
+                 std::to_string(v) + ", but there are " +
+                 std::to_string(n_vertices) + " points");
         for (std::size_t i = 0; i < vs.size(); ++i)
           for (std::size_t j = 0; j < i; ++j)
             if (vs[i] == vs[j])
-              fail(name + " names the same point twice");
+              fail(data.name(origin) + " names the same point twice");
       };
 
       // Sorting the cells' point sets and faces finds repeated cells and
@@ -84,7 +108,7 @@ namespace softface
           const auto &vs = data.cells[c].vertices;
           if (vs.size() != 4)
             fail(data.name(data.cell_origins[c]) + " is not a tetrahedron");
-          check_indices(vs, data.name(data.cell_origins[c]));
+          check_indices(vs, data.cell_origins[c]);
           std::array<unsigned int, 4> key{{vs[0], vs[1], vs[2], vs[3]}};
           std::sort(key.begin(), key.end());
           sets.emplace_back(key, c);
@@ -123,8 +147,7 @@ namespace softface
       auto &triangles = data.faces.boundary_quads;
       for (std::size_t f = 0; f < triangles.size(); ++f)
         {
-          const std::string name = data.name(data.face_origins[f]);
-          check_indices(triangles[f].vertices, name);
+          check_indices(triangles[f].vertices, data.face_origins[f]);
           Triangle t{{triangles[f].vertices[0],
                       triangles[f].vertices[1],
                       triangles[f].vertices[2]}};
@@ -132,7 +155,8 @@ namespace softface
           const auto first =
             std::lower_bound(faces.begin(), faces.end(), Face{t, 0});
           if (first == faces.end() || first->points != t)
-            fail(name + ", a triangle, is no face of any tetrahedron");
+            fail(data.name(data.face_origins[f]) +
+                 ", a triangle, is no face of any tetrahedron");
           const bool interior =
             (first + 1 != faces.end() && (first + 1)->points == t);
           if (!interior)

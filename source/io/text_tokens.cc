@@ -5,6 +5,7 @@
 #include <softface/core/error.h>
 #include <softface/io/text_tokens.h>
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -47,13 +48,13 @@ namespace softface
     }
 
     std::string_view
-    TextTokens::word(const std::string &what)
+    TextTokens::word(const std::string_view what)
     {
       skip_space();
       if (position >= text.size())
         {
           last_line = current_line;
-          fail("the file ends where " + what + " should be");
+          fail("the file ends where " + std::string(what) + " should be");
         }
       const std::size_t begin = position;
       while (position < text.size() &&
@@ -64,32 +65,46 @@ namespace softface
     }
 
     std::int64_t
-    TextTokens::integer(const std::string &what,
-                        const std::int64_t minimum,
-                        const std::int64_t maximum)
+    TextTokens::integer(const std::string_view what,
+                        const std::int64_t     minimum,
+                        const std::int64_t     maximum)
     {
       const std::string_view w     = word(what);
       std::int64_t           value = 0;
       const auto result = std::from_chars(w.data(), w.data() + w.size(), value);
       if (result.ec != std::errc() || result.ptr != w.data() + w.size())
-        fail(what + " '" + std::string(w) + "' is not a whole number");
+        fail(std::string(what) + " '" + std::string(w) +
+             "' is not a whole number");
       if (value < minimum || value > maximum)
-        fail(what + " " + std::string(w) + " is out of range (" +
+        fail(std::string(what) + " " + std::string(w) + " is out of range (" +
              std::to_string(minimum) + " to " + std::to_string(maximum) + ")");
       return value;
     }
 
     double
-    TextTokens::real(const std::string &what)
+    TextTokens::real(const std::string_view what)
     {
       const std::string_view w = word(what);
-      const std::string      copy(w);
-      char                  *end   = nullptr;
-      const double           value = std::strtod(copy.c_str(), &end);
-      if (copy.empty() || end != copy.c_str() + copy.size())
-        fail(what + " '" + copy + "' is not a number");
+      // strtod needs a terminated string: a copy on the stack for the short
+      // words numbers are (one per coordinate, on the reading's hot path).
+      // (A longer word goes through a std::string.)
+      char        buffer[64];
+      std::string long_word;
+      const char *text = buffer;
+      if (w.size() < sizeof(buffer))
+        {
+          std::copy(w.begin(), w.end(), buffer);
+          buffer[w.size()] = '\0';
+        }
+      else
+        text = (long_word = std::string(w)).c_str();
+      char        *end   = nullptr;
+      const double value = std::strtod(text, &end);
+      if (w.empty() || end != text + w.size())
+        fail(std::string(what) + " '" + std::string(w) + "' is not a number");
       if (!std::isfinite(value))
-        fail(what + " is " + copy + ", not a finite number");
+        fail(std::string(what) + " is " + std::string(w) +
+             ", not a finite number");
       return value;
     }
 
@@ -116,7 +131,7 @@ namespace softface
     }
 
     std::string
-    TextTokens::line_text(const std::string &what)
+    TextTokens::line_text(const std::string_view what)
     {
       // Move to the start of the next line unless at the file's start.
       if (position > 0)
@@ -132,20 +147,20 @@ namespace softface
       if (position >= text.size())
         {
           last_line = current_line;
-          fail("the file ends where " + what + " should be");
+          fail("the file ends where " + std::string(what) + " should be");
         }
       last_line = current_line;
       return rest_of_line();
     }
 
     std::uint64_t
-    TextTokens::count(const std::string &what, const std::uint64_t words)
+    TextTokens::count(const std::string_view what, const std::uint64_t words)
     {
       const std::int64_t n = integer(what, 0);
       // Each word takes at least one character and one separator.
       const std::uint64_t left = text.size() - position;
       if (static_cast<std::uint64_t>(n) > left / (2 * words))
-        fail(what + " is " + std::to_string(n) +
+        fail(std::string(what) + " is " + std::to_string(n) +
              ", more than the rest of the file (" + std::to_string(left) +
              " bytes) can hold");
       return n;

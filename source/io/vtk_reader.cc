@@ -245,14 +245,15 @@ namespace softface
           if (n_tuples * n_components > in.count_limit())
             in.fail("the data '" + name +
                     "' holds more values than the rest of the file can");
+          const std::string what = "a value of '" + name + "'";
           for (std::uint64_t i = 0; i < n_tuples * n_components; ++i)
             {
               if (!keep)
                 {
-                  in.word("a value of '" + name + "'");
+                  in.word(what);
                   continue;
                 }
-              const double value = in.real("a value of '" + name + "'");
+              const double value = in.real(what);
               if (!(value >= 0 && value <= max_id &&
                     value == std::floor(value)))
                 in.fail("cell " + std::to_string(i) + " has " + name + " " +
@@ -385,19 +386,9 @@ namespace softface
               const MeshData::Origin origin{std::int64_t(c), cell_lines[c]};
               const unsigned int     id = ids.empty() ? 0 : ids[c];
               if (types[c] == 10)
-                {
-                  data.cells.emplace_back(4);
-                  data.cells.back().vertices    = cell_points[c];
-                  data.cells.back().material_id = id;
-                  data.cell_origins.push_back(origin);
-                }
+                data.add_tetrahedron(cell_points[c], id, origin);
               else if (types[c] == 5)
-                {
-                  data.faces.boundary_quads.emplace_back(3);
-                  data.faces.boundary_quads.back().vertices    = cell_points[c];
-                  data.faces.boundary_quads.back().boundary_id = id;
-                  data.face_origins.push_back(origin);
-                }
+                data.add_triangle(cell_points[c], id, origin);
             }
           return std::move(data);
         }

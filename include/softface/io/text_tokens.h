@@ -15,7 +15,9 @@ namespace softface
      * names the file and line. Numbers are parsed strictly (a word that is
      * not entirely a number is an error, never a zero), and a declared count
      * is checked against the bytes the file has left before anything is
-     * allocated for it: a small file can never ask for gigabytes.
+     * allocated for it: a small file can never ask for gigabytes. What a
+     * word is meant to be (@p what) is a view: a message is only built when
+     * reading fails, never per word.
      */
     class TextTokens
     {
@@ -25,7 +27,7 @@ namespace softface
 
       /// The next word; throws "ends early" (naming @p what) at the end.
       std::string_view
-      word(const std::string &what);
+      word(std::string_view what);
 
       /// Whether the next word exists (without consuming it).
       bool
@@ -33,13 +35,13 @@ namespace softface
 
       /// The next word as a whole number in [minimum, maximum].
       std::int64_t
-      integer(const std::string &what,
-              std::int64_t       minimum = INT64_MIN,
-              std::int64_t       maximum = INT64_MAX);
+      integer(std::string_view what,
+              std::int64_t     minimum = INT64_MIN,
+              std::int64_t     maximum = INT64_MAX);
 
       /// The next word as a finite real number.
       double
-      real(const std::string &what);
+      real(std::string_view what);
 
       /// The next word must be @p expected.
       void
@@ -51,14 +53,14 @@ namespace softface
 
       /// The next whole line, trimmed (for headers).
       std::string
-      line_text(const std::string &what);
+      line_text(std::string_view what);
 
       /**
        * A count of items that take at least @p words_per_item words each:
        * refused if the file's remaining bytes cannot hold that many.
        */
       std::uint64_t
-      count(const std::string &what, const std::uint64_t words_per_item);
+      count(std::string_view what, const std::uint64_t words_per_item);
 
       /// How many more words the file could hold at most.
       std::uint64_t
