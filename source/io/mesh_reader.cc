@@ -10,6 +10,7 @@
 #include <softface/io/vtk_reader.h>
 #include <softface/io/vtu_reader.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -20,6 +21,11 @@ namespace softface
     void
     read_file(const std::string &filename, Triangulation<3> &triangulation)
     {
+      // A device or a fifo (/dev/zero) would be read without end, and a
+      // directory opens as an empty stream on Linux.
+      if (std::filesystem::exists(filename) &&
+          !std::filesystem::is_regular_file(filename))
+        throw Error("Mesh file '" + filename + "' is not a regular file.");
       std::ifstream in(filename);
       if (!in)
         throw Error("Cannot open mesh file '" + filename +
