@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/error.h>
+#include <softface/core/process.h>
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/models/interface.h>
@@ -15,7 +16,10 @@
 int
 main(int argc, char **argv)
 {
-  // Trilinos (the AMG solver) needs MPI initialised; softface runs serially.
+  // Trilinos (the AMG solver) needs MPI initialised; softface runs serially,
+  // without Open MPI's helper process.
+  softface::Process::wall_time();
+  softface::Process::prepare_serial_mpi();
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   softface::limit_blas_threads();
 

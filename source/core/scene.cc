@@ -173,6 +173,7 @@ namespace softface
       {
         Mesh::generate_cube(cube, triangulation);
         mesh_description = "generated cube";
+        cell_name        = {};
       }
     else if (source == "patient")
       {
@@ -196,7 +197,7 @@ namespace softface
                                        seeds,
                                        log != nullptr ? *log : quiet);
         patient_figures = model.figures;
-        Mesh::read_file(model.mesh_file, triangulation);
+        cell_name       = Mesh::read_file(model.mesh_file, triangulation);
         resolve_shared_join_points = true;
         for (unsigned int s = 0; s < segments.size(); ++s)
           for (const auto id : model.segment_boundary_ids[s])
@@ -209,7 +210,7 @@ namespace softface
           throw Error("Scene: 'Mesh source = file' needs a 'Mesh file'.");
         if (file[0] != '/' && !input_directory.empty())
           file = input_directory + "/" + file;
-        Mesh::read_file(file, triangulation);
+        cell_name        = Mesh::read_file(file, triangulation);
         mesh_description = "'" + file + "'";
       }
     setup();
@@ -218,7 +219,7 @@ namespace softface
   void
   Scene::setup()
   {
-    Mesh::check_cells(triangulation, mesh_description);
+    Mesh::check_cells(triangulation, mesh_description, cell_name);
     if (segments.empty())
       throw Error("Scene: no bone segment is defined; without join points "
                   "every displacement is undetermined.");

@@ -122,7 +122,10 @@ namespace softface
               {
                 std::ostringstream m;
                 m << "Effects/heterogeneous tissue: material id " << int(id)
-                  << " of the mesh (cell " << cell->active_cell_index()
+                  << " of the mesh ("
+                  << (scene.cell_name ?
+                        scene.cell_name(cell->active_cell_index()) :
+                        "cell " + std::to_string(cell->active_cell_index()))
                   << " at (" << cell->center()
                   << ")) has no Young's modulus; list it in 'Young's "
                      "moduli'.";

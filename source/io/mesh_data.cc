@@ -5,12 +5,14 @@
 
 #include <deal.II/grid/grid_tools.h>
 
+#include <softface/core/cell_order.h>
 #include <softface/core/error.h>
 #include <softface/io/mesh_data.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <tuple>
 
@@ -65,7 +67,7 @@ namespace softface
       };
     } // namespace
 
-    void
+    CellNamer
     build_triangulation(MeshData          &data,
                         const std::string &filename,
                         Triangulation<3>  &triangulation)
@@ -184,6 +186,12 @@ namespace softface
       triangles = std::move(kept);
 
       GridTools::delete_unused_vertices(data.vertices, data.cells, data.faces);
+      const std::vector<unsigned int> old_cell =
+        order_for_locality(data.vertices, data.cells, data.faces);
+      auto origins = std::make_shared<std::vector<MeshData::Origin>>();
+      origins->reserve(old_cell.size());
+      for (const unsigned int c : old_cell)
+        origins->push_back(data.cell_origins[c]);
       triangulation.clear();
       try
         {
@@ -195,6 +203,12 @@ namespace softface
         {
           fail(error_message(e));
         }
+      // A copy of the element word: @p data does not outlive the reader.
+      MeshData names;
+      names.element_word = data.element_word;
+      return [names, origins](const unsigned int cell) {
+        return names.name((*origins)[cell]);
+      };
     }
   } // namespace Mesh
 } // namespace softface

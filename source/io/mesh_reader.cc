@@ -18,7 +18,7 @@ namespace softface
 {
   namespace Mesh
   {
-    void
+    CellNamer
     read_file(const std::string &filename, Triangulation<3> &triangulation)
     {
       // A device or a fifo (/dev/zero) would be read without end, and a
@@ -38,6 +38,7 @@ namespace softface
 
       triangulation.clear();
       GridIn<3> grid_in(triangulation);
+      CellNamer cell_name;
       try
         {
           // softface's own readers: deal.II's check their input with
@@ -45,12 +46,12 @@ namespace softface
           if (extension == "msh")
             {
               MeshData data = read_gmsh(filename);
-              build_triangulation(data, filename, triangulation);
+              cell_name = build_triangulation(data, filename, triangulation);
             }
           else if (extension == "vtk")
             {
               MeshData data = read_legacy_vtk(filename);
-              build_triangulation(data, filename, triangulation);
+              cell_name = build_triangulation(data, filename, triangulation);
             }
           else if (extension == "vtu")
             {
@@ -64,7 +65,7 @@ namespace softface
                   grid_in.read_vtu(again);
                 }
               else
-                read_vtu(filename, triangulation);
+                cell_name = read_vtu(filename, triangulation);
             }
           else
             throw Error("Mesh file '" + filename + "': unknown format '." +
@@ -81,6 +82,7 @@ namespace softface
         }
       if (triangulation.n_active_cells() == 0)
         throw Error("Mesh file '" + filename + "' holds no cells.");
+      return cell_name;
     }
   } // namespace Mesh
 } // namespace softface

@@ -671,7 +671,7 @@ namespace softface
       }
     } // namespace
 
-    void
+    CellNamer
     read_vtu(const std::string &filename, Triangulation<3> &triangulation)
     {
       MeshData data;
@@ -762,7 +762,7 @@ namespace softface
         data.cell_origins.push_back({std::int64_t(c), 0});
       for (std::size_t f = 0; f < data.faces.boundary_quads.size(); ++f)
         data.face_origins.push_back({std::int64_t(f), 0});
-      build_triangulation(data, filename, triangulation);
+      return build_triangulation(data, filename, triangulation);
     }
   } // namespace Mesh
 } // namespace softface

@@ -8,6 +8,7 @@
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/planning.h>
+#include <softface/core/process.h>
 #include <softface/core/scene.h>
 #include <softface/effects/interface.h>
 #include <softface/fe/point_evaluation.h>
@@ -532,8 +533,9 @@ namespace softface
         << (evaluation ? ", evaluation_*.csv" : "")
         << (skin ? ", skin.csv, skin_*.ply/.vtp" : "")
         << ", input.prm, parameters.prm)\n"
-        << "Wall time " << std::setprecision(2) << wall.wall_time()
-        << " s, peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;
+        << "Wall time " << std::setprecision(2) << Process::wall_time()
+        << " s (the whole process), peak memory " << memory.VmHWM / 1024
+        << " MB" << std::endl;
     if (n_failed > 0)
       {
         std::string names;

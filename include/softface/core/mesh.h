@@ -6,6 +6,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <array>
+#include <functional>
 #include <string>
 
 namespace softface
@@ -57,11 +58,21 @@ namespace softface
 
     /**
      * Throw a clear error unless every cell is a positively oriented,
-     * non-degenerate tetrahedron. @p source names the mesh in the message.
+     * non-degenerate tetrahedron. @p source names the mesh in the message,
+     * @p cell_name the cell.
      */
+    /**
+     * How a message names cell i of a triangulation. softface renumbers the
+     * cells of every mesh for locality (order_for_locality()), so a read
+     * mesh's cell is named by its number and line in the file; empty means
+     * "cell i".
+     */
+    using CellNamer = std::function<std::string(unsigned int)>;
+
     void
     check_cells(const Triangulation<3> &triangulation,
-                const std::string      &source);
+                const std::string      &source,
+                const CellNamer        &cell_name = {});
 
   } // namespace Mesh
 } // namespace softface

@@ -193,6 +193,8 @@ namespace softface
     std::vector<BoneSegment> segments;
     /// Names the mesh in messages (file name or "generated cube").
     std::string mesh_description;
+    /// Names a cell in messages as the mesh file did (empty: "cell i").
+    Mesh::CellNamer cell_name;
     /**
      * Whether a vertex that touches two segments' bone is free (patient
      * meshes: every cut leaves such vertices, where the tissue covers the

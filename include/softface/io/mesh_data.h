@@ -3,6 +3,8 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <softface/core/mesh.h>
+
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -63,9 +65,11 @@ namespace softface
      * tetrahedron, two boundary triangles on the same face with different
      * ids, non-finite coordinates, an empty mesh. A boundary triangle on an
      * interior face carries no boundary and is dropped (as a surface gmsh
-     * embeds between two volumes). Unused points are removed.
+     * embeds between two volumes). Unused points are removed. The cells are
+     * put in Hilbert order (order_for_locality()); the result names each
+     * of them as the file did.
      */
-    void
+    CellNamer
     build_triangulation(MeshData          &data,
                         const std::string &filename,
                         Triangulation<3>  &triangulation);

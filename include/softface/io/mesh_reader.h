@@ -3,6 +3,8 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <softface/core/mesh.h>
+
 #include <string>
 
 namespace softface
@@ -15,9 +17,10 @@ namespace softface
      * Read a tetrahedral mesh: gmsh .msh (ASCII format 1, 2 or 4.1; physical
      * volumes become material ids, physical surfaces boundary ids), legacy VTK
      * .vtk (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
-     * serialised .vtu too). Errors name the file.
+     * serialised .vtu too). Errors name the file. The cells are renumbered
+     * for locality; the result names each as the file did.
      */
-    void
+    CellNamer
     read_file(const std::string &filename, Triangulation<3> &triangulation);
   } // namespace Mesh
 } // namespace softface

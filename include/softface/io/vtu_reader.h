@@ -3,6 +3,8 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <softface/core/mesh.h>
+
 #include <string>
 
 namespace softface
@@ -26,7 +28,7 @@ namespace softface
      * Whatever cannot be read completely throws one softface::Error,
      * "Cannot read mesh file '<filename>': <reason>."
      */
-    void
+    CellNamer
     read_vtu(const std::string &filename, Triangulation<3> &triangulation);
   } // namespace Mesh
 } // namespace softface

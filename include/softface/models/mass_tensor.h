@@ -61,9 +61,17 @@ namespace softface
                  const double       stop_gradient_threshold,
                  const unsigned int gradient_window,
                  const bool         active_set);
-      /// Relaxation factor of the updates (1: the seed's eq. 12).
+      /// Relaxation factor of the updates (1: the seed's eq. 12; 0: 'auto',
+      /// 1.8 with Gauss-Seidel order and 1 with Jacobi).
       void
       set_relaxation(const double factor);
+      /// The factor the updates use.
+      double
+      relaxation_factor() const;
+      /// Distance to the answer (mm) below which a stop that the seed's
+      /// criterion proposes is accepted; 0: the seed's criterion alone.
+      void
+      set_stop_distance(const double distance);
       /// Also compute the converged answer and report the precision.
       void
       set_report_precision(const bool report);
@@ -108,12 +116,13 @@ namespace softface
                       Vector<double>       &converged);
 
       bool         gauss_seidel            = true;
-      double       relaxation              = 1.;
+      double       relaxation              = 0.; ///< 0: 'auto'
       double       stop_gradient_threshold = 1e-3;
       unsigned int gradient_window         = 10;
       bool         use_active_set          = true;
       unsigned int max_sweeps              = 100000;
       double       convergence_tolerance   = 1e-9;
+      double       stop_distance           = 0.1;
       bool         report_precision        = false;
       std::string  precision_history_file;
 

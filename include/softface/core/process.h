@@ -1,0 +1,33 @@
+#ifndef softface_process_h
+#define softface_process_h
+
+namespace softface
+{
+  /**
+   * What a softface process does before and after its computations,
+   * independent of the scene.
+   */
+  namespace Process
+  {
+    /**
+     * Call before MPI is initialised. A serial run (no mpirun, srun or other
+     * launcher in the environment) asks Open MPI not to start its helper
+     * process (orted): Trilinos needs MPI initialised, but a run on one rank
+     * gained nothing from the helper and paid its start-up (issue 16). A
+     * setting of OMPI_MCA_ess_singleton_isolated in the environment wins.
+     */
+    void
+    prepare_serial_mpi();
+
+    /**
+     * Seconds since this process started (from /proc, 10 ms resolution),
+     * so the printed wall time includes loading the shared libraries and
+     * initialising MPI, as the shell's `time` sees it. Falls back to the
+     * time since the first call where /proc is not readable.
+     */
+    double
+    wall_time();
+  } // namespace Process
+} // namespace softface
+
+#endif
