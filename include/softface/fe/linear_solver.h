@@ -46,12 +46,15 @@ namespace softface
       unsigned int gmres_restart             = 50;
       unsigned int amg_smoother_sweeps       = 2;
       double       amg_aggregation_threshold = 0.02;
+      /// Smooth ML's prolongators (smoothed aggregation) or not.
+      bool amg_smoothed_aggregation = false;
       /// 0: ML is built once and never rebuilt (a fixed matrix).
       unsigned int amg_rebuild_iterations = 0;
 
       /**
        * Declare the tuning entries, with this object's values as defaults:
-       * GMRES restart, AMG smoother sweeps, AMG aggregation threshold and,
+       * GMRES restart, AMG smoother sweeps, AMG aggregation threshold, AMG
+       * prolongator and,
        * if @p with_rebuild, AMG rebuild iterations. The method, tolerance and
        * iteration limit are the model's own entries (their names and
        * meaning differ between a linear solve and a Newton step).
