@@ -44,3 +44,7 @@ done
 /usr/bin/python3 "$here/run.py" --softface "$(realpath "$softface")" --work "$work" \
   --results "$results" --command "benchmarks/peers/run.sh $*" "${quick[@]}"
 echo "wrote $results/peers.md, peers.csv, peers.png"
+
+# Cell and DoF order: every model on the gmsh cubes against the generated cube of the same size.
+/usr/bin/python3 "$here/mesh_order.py" "$(realpath "$softface")" "$work" "$work/order" "$results" \
+  "benchmarks/peers/run.sh $*" "${quick[@]}"
