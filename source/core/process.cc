@@ -39,9 +39,9 @@ namespace softface
         // The command name (field 2) may hold spaces: count fields after
         // its closing parenthesis; starttime is field 22.
         const auto close = line.rfind(')');
-        if (close == std::string::npos)
+        if (close == std::string::npos || close + 1 >= line.size())
           return -1;
-        std::istringstream fields(line.substr(close + 2));
+        std::istringstream fields(line.substr(close + 1));
         std::string        field;
         for (unsigned int f = 3; f < 22 && (fields >> field); ++f)
           {}

@@ -175,12 +175,14 @@ namespace softface
     parameters.set("null space: dimension", modes.NumVectors());
     parameters.set("null space: vectors", modes.Values());
     // Unsmoothed aggregates: the prolongator smoothing (two sparse matrix
-    // products per level) was most of ML's setup. Uncoupled aggregation
+    // products per level) was most of ML's setup; uncoupled aggregation
     // (no MIS on the coarse levels) was 10 % cheaper for the same
-    // iterations on one process.
-    parameters.set("aggregation: type", "Uncoupled");
+    // iterations on one process. 'smoothed' keeps ML's defaults.
     if (!prm.amg_smoothed_aggregation)
-      parameters.set("aggregation: damping factor", 0.);
+      {
+        parameters.set("aggregation: type", "Uncoupled");
+        parameters.set("aggregation: damping factor", 0.);
+      }
 
     amg.initialize(amg_matrix, parameters);
     amg_built = true;

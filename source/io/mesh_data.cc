@@ -206,8 +206,12 @@ namespace softface
       // A copy of the element word: @p data does not outlive the reader.
       MeshData names;
       names.element_word = data.element_word;
+      data.cell_origins  = *origins;
+      // A cell index past the mesh (a scene refilled in code after this
+      // mesh was read) is named by its index.
       return [names, origins](const unsigned int cell) {
-        return names.name((*origins)[cell]);
+        return cell < origins->size() ? names.name((*origins)[cell]) :
+                                        "cell " + std::to_string(cell);
       };
     }
   } // namespace Mesh

@@ -21,8 +21,9 @@ namespace softface
      * blocks. A gmsh mesh comes in the order its mesher made it, which
      * scattered each cell's vertices over the whole vertex array and made
      * assembly six times slower than on a generated grid of the same size
-     * (issue 16). Every mesh read from a file goes through this; the generated
-     * cube is in grid order already.
+     * (issue 16). Every mesh softface's own readers read goes through this
+     * (deal.II's serialised .vtu keeps its order); the generated cube is in
+     * grid order already.
      *
      * The boundary faces in @p faces are renumbered with the vertices. The
      * result maps each new cell index to the cell's index in @p cells on

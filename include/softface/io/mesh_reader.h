@@ -18,7 +18,8 @@ namespace softface
      * volumes become material ids, physical surfaces boundary ids), legacy VTK
      * .vtk (CELL_DATA "MaterialID"), or VTK XML .vtu (see read_vtu(); deal.II's
      * serialised .vtu too). Errors name the file. The cells are renumbered
-     * for locality; the result names each as the file did.
+     * for locality (all but deal.II's own serialised .vtu, which keeps its
+     * order); the result names each as the file did (empty: "cell i").
      */
     CellNamer
     read_file(const std::string &filename, Triangulation<3> &triangulation);
