@@ -45,7 +45,10 @@ namespace softface
       "which needs fewer CG iterations but a setup two to three times as "
       "costly. Measured on the gmsh cubes of benchmarks/peers, setup + CG: "
       "105k tetrahedra 0.30 + 0.57 s (37 iterations) against 0.69 + 0.47 s "
-      "(21); 491k 1.44 + 3.03 s (46) against 3.62 + 2.42 s (24).");
+      "(21); 491k 1.44 + 3.03 s (46) against 3.62 + 2.42 s (24). The "
+      "linear FEM (one solve) defaults to 'unsmoothed', the nonlinear FEM "
+      "to 'smoothed': Newton reuses one ML over many solves, where fewer "
+      "iterations pay more.");
     if (with_rebuild)
       prm.declare_entry("AMG rebuild iterations",
                         std::to_string(amg_rebuild_iterations),

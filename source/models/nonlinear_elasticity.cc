@@ -22,6 +22,10 @@ namespace softface
       solver_parameters.relative_tolerance     = 1e-6;
       solver_parameters.max_iterations         = 2000;
       solver_parameters.amg_rebuild_iterations = 100;
+      // Newton reuses one ML over many solves: fewer iterations pay more
+      // than a cheaper setup (unsmoothed aggregates made the 511k cube's
+      // Newton solve 1.6 times slower, 210 -> 352 CG iterations).
+      solver_parameters.amg_smoothed_aggregation = true;
     }
 
     void
@@ -60,7 +64,8 @@ namespace softface
                         "more iterations fails, and the load step is cut "
                         "back.");
       LinearSolver::Parameters defaults;
-      defaults.amg_rebuild_iterations = 100;
+      defaults.amg_rebuild_iterations   = 100;
+      defaults.amg_smoothed_aggregation = true;
       defaults.declare_tuning_parameters(prm, true);
     }
 
