@@ -12,6 +12,7 @@ Writes RESULTS/mesh_order.md, mesh_order.csv, mesh_order.png.
 """
 import csv, os, re, subprocess, sys, time
 from statistics import median
+from scene import cube_scene
 
 softface, meshes, work, results, command = sys.argv[1:6]
 quick = "--quick" in sys.argv[6:]
@@ -20,48 +21,19 @@ SIZES = [("4.3", 35000)] if quick else [("2.88", 105000), ("1.68", 491000)]
 MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 # At 491k the mass spring and nonlinear models take minutes per run: the linear ones only.
 MODELS_AT = {"1.68": ["linear fem", "mass tensor"]}
+NONLINEAR = "  subsection nonlinear fem\n    set Material law = neo-hooke\n  end\n"
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
 
-SCENE = """subsection Scene
-  set Mesh source = {source}
-  set Mesh file = {mesh}
-  set Bone segments = fixed, bone
-  subsection Cube
-    set Target number of tetrahedra = {tets}
-  end
-  subsection Segment fixed
-    set Boundary ids = 1
-  end
-  subsection Segment bone
-    set Material ids = 2
-  end
-end
-subsection Planning
-  set Moved segments = bone
-  subsection Motion bone
-    set Translation = 0, 0, 6
-  end
-end
-subsection Models
-  set Models = {model}
-  subsection nonlinear fem
-    set Material law = neo-hooke
-  end
-end
-subsection Output
-  set Output directory = {out}
-  set Write VTU = false
-end
-"""
 
 
 def run(source, h, tets, model):
     tag = f"{source}_{h}_{model.replace(' ', '_')}"
     prm = os.path.join(work, tag + ".prm")
     with open(prm, "w") as f:
-        f.write(SCENE.format(source=source, mesh=os.path.join(meshes, f"cube_h{h}.msh"),
-                             tets=tets, model=model, out=os.path.join(work, tag)))
+        f.write(cube_scene(os.path.join(work, tag),
+                           mesh=os.path.join(meshes, f"cube_h{h}.msh") if source == "file" else None,
+                           tets=tets, models=f"  set Models = {model}\n" + NONLINEAR))
     start = time.perf_counter()
     out = subprocess.run([softface, prm], capture_output=True, text=True, check=True).stdout
     wall = time.perf_counter() - start

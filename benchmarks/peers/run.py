@@ -12,6 +12,7 @@ non-zero exit if a peer differs by more than TOL_MM. Writes peers.md, peers.csv,
 import argparse, csv, datetime, json, os, platform, re, statistics, subprocess, sys, time
 import numpy as np
 from scipy.spatial import cKDTree
+from scene import cube_scene
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PY = "/usr/bin/python3"                    # Debian's python3 with dolfinx, gmsh, scipy, matplotlib
@@ -28,39 +29,11 @@ COLUMNS = [("mesh read", ["mesh read"]),
 ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", DEAL_II_NUM_THREADS="1",
            CCX_NPROC_EQUATION_SOLVER="1", CCX_NPROC_STIFFNESS="1", CCX_NPROC_RESULTS="1")
 
-SCENE = """subsection Scene
-  set Mesh source = file
-  set Mesh file = {mesh}
-  set Bone segments = fixed, bone
-  subsection Segment fixed
-    set Boundary ids = 1
-  end
-  subsection Segment bone
-    set Material ids = 2
-  end
-end
-subsection Material
-  set Young's modulus = 3000
-  set Poisson's ratio = 0.46
-end
-subsection Planning
-  set Moved segments = bone
-  subsection Motion bone
-    set Translation = 0, 0, 6
-  end
-end
-subsection Models
-  set Models = linear fem
+MODELS = """  set Models = linear fem
   subsection linear fem
     set Solver = cg amg
     set Relative tolerance = 1e-10
   end
-end
-subsection Output
-  set Output directory = {out}
-  set Write VTU = false
-  set Write nodal displacements = true
-end
 """
 
 
@@ -80,7 +53,8 @@ def timed(cmd, cwd, log):
 
 def run_softface(binary, mesh, d):
     os.makedirs(d, exist_ok=True)
-    open(os.path.join(d, "scene.prm"), "w").write(SCENE.format(mesh=mesh, out=os.path.join(d, "out")))
+    open(os.path.join(d, "scene.prm"), "w").write(cube_scene(os.path.join(d, "out"), mesh=mesh, models=MODELS,
+                   output="  set Write nodal displacements = true\n"))
     wall, rss, cpu, out = timed([binary, "scene.prm"], d, "softface.log")
     ph = {"mesh read": float(re.search(r"free DoFs \(([\d.]+) s\)", out).group(1))}
     row = next(csv.DictReader(open(os.path.join(d, "out", "summary.csv"))))

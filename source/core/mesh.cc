@@ -275,6 +275,12 @@ namespace softface
             face->set_boundary_id(cube_outer_face);
     }
 
+    std::string
+    cell_description(const CellNamer &cell_name, const unsigned int cell)
+    {
+      return cell_name ? cell_name(cell) : "cell " + std::to_string(cell);
+    }
+
     void
     check_cells(const Triangulation<3> &triangulation,
                 const std::string      &source,
@@ -285,9 +291,7 @@ namespace softface
           const auto describe = [&]() {
             std::ostringstream s;
             s << "Mesh " << source << ": "
-              << (cell_name ?
-                    cell_name(cell->active_cell_index()) :
-                    "cell " + std::to_string(cell->active_cell_index()))
+              << cell_description(cell_name, cell->active_cell_index())
               << " (vertices";
             for (const unsigned int v : cell->vertex_indices())
               s << (v ? ", " : " ") << '(' << cell->vertex(v) << ')';

@@ -123,9 +123,8 @@ namespace softface
                 std::ostringstream m;
                 m << "Effects/heterogeneous tissue: material id " << int(id)
                   << " of the mesh ("
-                  << (scene.cell_name ?
-                        scene.cell_name(cell->active_cell_index()) :
-                        "cell " + std::to_string(cell->active_cell_index()))
+                  << Mesh::cell_description(scene.cell_name,
+                                            cell->active_cell_index())
                   << " at (" << cell->center()
                   << ")) has no Young's modulus; list it in 'Young's "
                      "moduli'.";

@@ -206,7 +206,8 @@ namespace softface
       // A copy of the element word: @p data does not outlive the reader.
       MeshData names;
       names.element_word = data.element_word;
-      data.cell_origins  = *origins;
+      // The origins now live in the namer, in the cells' new order.
+      data.cell_origins.clear();
       // A cell index past the mesh (a scene refilled in code after this
       // mesh was read) is named by its index.
       return [names, origins](const unsigned int cell) {

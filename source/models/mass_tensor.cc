@@ -485,6 +485,7 @@ namespace softface
                                        stop_gradient_threshold :
                                        convergence_tolerance;
       const unsigned int W         = gradient_window;
+      const double       w         = relaxation_factor();
 
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
@@ -636,7 +637,6 @@ namespace softface
                 }
               const double *D      = diagonal_inverse[j].data();
               double       *uj     = u + 3 * j;
-              const double  w      = relaxation_factor();
               double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
                                       -(D[3] * f0 + D[4] * f1 + D[5] * f2),
                                       -(D[6] * f0 + D[7] * f1 + D[8] * f2)};

@@ -221,9 +221,7 @@ namespace softface
         if (segment_of[cell->vertex_index(v)] < scene->segments.size())
           touched.insert(
             scene->segments[segment_of[cell->vertex_index(v)]].name);
-      where << " ("
-            << (scene->cell_name ? scene->cell_name(cell_index) :
-                                   "cell " + std::to_string(cell_index))
+      where << " (" << Mesh::cell_description(scene->cell_name, cell_index)
             << " at (" << cell->center() << "), join points of";
       if (touched.empty())
         where << " no segment";

@@ -69,6 +69,10 @@ namespace softface
      */
     using CellNamer = std::function<std::string(unsigned int)>;
 
+    /// Cell @p cell as @p cell_name names it, or "cell i" if it is empty.
+    std::string
+    cell_description(const CellNamer &cell_name, unsigned int cell);
+
     void
     check_cells(const Triangulation<3> &triangulation,
                 const std::string      &source,
