@@ -4,6 +4,7 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/error.h>
+#include <softface/core/process.h>
 #include <softface/core/threads.h>
 
 #include "tests.h"
@@ -31,6 +32,7 @@ namespace softface_tests
 int
 main(int argc, char **argv)
 {
+  softface::Process::prepare_serial_mpi();
   dealii::Utilities::MPI::MPI_InitFinalize mpi(argc, argv, 1);
   softface::limit_blas_threads();
   const auto &tests = softface_tests::registry();

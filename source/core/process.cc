@@ -24,6 +24,22 @@ namespace softface
         if (std::getenv(launched) != nullptr)
           return;
       setenv("OMPI_MCA_ess_singleton_isolated", "1", /*overwrite=*/0);
+      const char *isolated = std::getenv("OMPI_MCA_ess_singleton_isolated");
+      if (isolated == nullptr || std::string(isolated) != "1")
+        return;
+
+      // An isolated singleton always calls itself job 1, so every such
+      // process on a host would share one session directory
+      // (<tmp>/ompi.<host>.<uid>/jf.0/1): two processes starting and ending
+      // at the same moment race on creating and removing it, and MPI_Init
+      // then fails ("mkdir ... File exists"; 6 of 1500 runs of an empty MPI
+      // program, 8 at a time). A directory of this process's own avoids it;
+      // Open MPI removes it at MPI_Finalize.
+      const char       *tmp = std::getenv("TMPDIR");
+      const std::string session =
+        std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") +
+        "/softface-mpi." + std::to_string(getpid());
+      setenv("OMPI_MCA_orte_top_session_dir", session.c_str(), /*overwrite=*/0);
     }
 
     namespace

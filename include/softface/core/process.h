@@ -15,6 +15,9 @@ namespace softface
      * process (orted): Trilinos needs MPI initialised, but a run on one rank
      * gained nothing from the helper and paid its start-up (issue 16). A
      * setting of OMPI_MCA_ess_singleton_isolated in the environment wins.
+     * An isolated process gets a session directory of its own
+     * (`$TMPDIR/softface-mpi.<pid>`, removed at exit), so that concurrent
+     * runs do not race on a shared one.
      */
     void
     prepare_serial_mpi();
