@@ -67,7 +67,9 @@ namespace softface
     add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
                     const std::array<std::uint8_t, 12>            &order,
                     const Elasticity::CellMatrix                  &K,
-                    SparseMatrix<double>                          &matrix)
+                    SparseMatrix<double>                          &matrix,
+                    const types::global_dof_index                  first_row,
+                    const types::global_dof_index                  end_row)
     {
       // Adding a row with sorted column indices lets SparseMatrix merge it
       // into the row instead of searching for each entry: one order serves
@@ -79,6 +81,8 @@ namespace softface
       for (unsigned int a = 0; a < 4; ++a)
         for (unsigned int i = 0; i < 3; ++i)
           {
+            if (dofs[3 * a + i] < first_row || dofs[3 * a + i] >= end_row)
+              continue;
             for (unsigned int k = 0; k < 12; ++k)
               row_values[k] = K[a][order[k] / 3][i][order[k] % 3];
             matrix.add(dofs[3 * a + i],

@@ -7,8 +7,10 @@
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/lac/full_matrix.h>
 
+#include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
+#include <softface/fe/row_partition.h>
 
 #include <algorithm>
 #include <numeric>
@@ -115,12 +117,28 @@ namespace softface
       for (unsigned int t = 0; t < scene.n_tissues(); ++t)
         A.push_back(linear_tangent(scene.tissue(t).lame()));
       stiffness = 0;
+      std::vector<Triangulation<3>::active_cell_iterator>  cells;
+      std::vector<std::array<types::global_dof_index, 12>> dofs;
+      cells.reserve(scene.triangulation.n_active_cells());
+      dofs.reserve(scene.triangulation.n_active_cells());
       for (const auto &cell : scene.triangulation.active_cell_iterators())
-        ConstrainedSystem::add_cell_matrix(
-          ConstrainedSystem::cell_dofs(scene, cell),
-          p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cell)),
-                       A[scene.tissue_of_cell(cell->active_cell_index())]),
-          stiffness);
+        {
+          cells.push_back(cell);
+          dofs.push_back(ConstrainedSystem::cell_dofs(scene, cell));
+        }
+      RowPartition partition;
+      partition.reinit(dofs, stiffness.m(), Threads::n_threads());
+      Threads::run_tasks(partition.n_parts(), [&](const unsigned int p) {
+        for (const unsigned int c : partition.cells(p))
+          ConstrainedSystem::add_cell_matrix(
+            dofs[c],
+            ConstrainedSystem::sorted_order(dofs[c]),
+            p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cells[c])),
+                         A[scene.tissue_of_cell(c)]),
+            stiffness,
+            partition.first_row_of(p),
+            partition.first_row_of(p + 1));
+      });
     }
 
     void

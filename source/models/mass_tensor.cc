@@ -8,6 +8,7 @@
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
+#include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/active_set.h>
@@ -278,6 +279,15 @@ namespace softface
       if (!point_constraints.empty() && !gauss_seidel)
         throw Error("mass tensor: vertex constraints (sliding contact, "
                     "separated lips) need 'Ordering = gauss-seidel'.");
+      // A constrained update also moves its partner and reads the partner's
+      // neighbours, further than a block's colour keeps apart: such scenes
+      // sweep in plain order on one thread.
+      colouring = point_constraints.empty() ?
+                    std::make_unique<BlockColouring>(n,
+                                                     mesh->row_start,
+                                                     mesh->neighbour) :
+                    std::make_unique<BlockColouring>(n);
+      add_detail("colours", colouring->colours.size(), "");
 
       add_detail("tensor memory",
                  (mesh->neighbour.size() *
@@ -400,13 +410,14 @@ namespace softface
     }
 
     void
-    MassTensor::constrained_update(const unsigned int    j,
-                                   double                opt[3],
-                                   double *const         u,
-                                   const double *const   load,
-                                   const Vector<double> &prescribed,
-                                   const double          threshold,
-                                   ActiveSet            &active) const
+    MassTensor::constrained_update(const unsigned int         j,
+                                   double                     opt[3],
+                                   double *const              u,
+                                   const double *const        load,
+                                   const Vector<double>      &prescribed,
+                                   const double               threshold,
+                                   ActiveSet                 &active,
+                                   std::vector<unsigned int> &queued) const
     {
       // The local problem's minimiser under the constraint: the
       // unconstrained one moved along K_jj^-1 n (for a pair: both points,
@@ -463,12 +474,12 @@ namespace softface
       // Like any point whose step exceeds the threshold.
       if (use_active_set && step > threshold * threshold)
         {
-          active.queue(other);
+          active.queue(other, queued);
           for (unsigned int i = mesh->row_start[other];
                i < mesh->row_start[other + 1];
                ++i)
             if (mesh->is_free[mesh->neighbour[i]])
-              active.queue(mesh->neighbour[i]);
+              active.queue(mesh->neighbour[i], queued);
         }
     }
 
@@ -585,11 +596,15 @@ namespace softface
       double                 estimated_distance = 0., contraction_rate = 0.;
       Timer                  sweep_timer;
       auto                   sweeps_phase = phase("sweeps");
+      const unsigned int     n_blocks =
+        colouring->colours.empty() ? 0 : colouring->block_start.size() - 1;
+      std::vector<double> block_largest(n_blocks), diverged(n_blocks, 0.);
+      std::vector<char>   block_stopped(n_blocks);
+      std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
           const std::vector<unsigned int> &current =
             use_active_set ? active.current() : all_touched;
-          double largest_change = 0.;
           if (sweep == max_sweeps)
             {
               double g = 0.;
@@ -615,88 +630,123 @@ namespace softface
           if (!gauss_seidel)
             jacobi_values.resize(current.size());
 
-          bool all_stopped = true;
-          for (unsigned int q = 0; q < current.size(); ++q)
+          // The blocks of one colour at once (BlockColouring), each over
+          // its points of this sweep in order; the colours in turn.
+          const auto block_update = [&](const unsigned int b) {
+            double                    &largest_change = block_largest[b];
+            std::vector<unsigned int> &queued         = block_queued[b];
+            largest_change                            = 0.;
+            block_stopped[b]                          = true;
+            const auto q_begin = std::lower_bound(current.begin(),
+                                                  current.end(),
+                                                  colouring->block_start[b]) -
+                                 current.begin();
+            const auto q_end = std::lower_bound(current.begin() + q_begin,
+                                                current.end(),
+                                                colouring->block_start[b + 1]) -
+                               current.begin();
+            bool all_stopped = true;
+            for (auto q = q_begin; q < q_end; ++q)
+              {
+                const unsigned int j = current[q];
+                // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
+                double f0 = 0., f1 = 0., f2 = 0.;
+                if (load != nullptr)
+                  {
+                    f0 = -load[3 * j];
+                    f1 = -load[3 * j + 1];
+                    f2 = -load[3 * j + 2];
+                  }
+                for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+                  {
+                    const double *B  = coupling[i].data();
+                    const double *uk = u + 3 * neighbour[i];
+                    f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
+                    f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
+                    f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
+                  }
+                const double *D      = diagonal_inverse[j].data();
+                double       *uj     = u + 3 * j;
+                double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
+                                        -(D[3] * f0 + D[4] * f1 + D[5] * f2),
+                                        -(D[6] * f0 + D[7] * f1 + D[8] * f2)};
+                double        wj     = w;
+                if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
+                  {
+                    constrained_update(
+                      j, opt, u, load, prescribed, threshold, active, queued);
+                    // The constrained minimiser whole: a relaxed step past it
+                    // could pass through the constraint.
+                    wj = 1.;
+                  }
+                const double v[3] = {uj[0] + wj * (opt[0] - uj[0]),
+                                     uj[1] + wj * (opt[1] - uj[1]),
+                                     uj[2] + wj * (opt[2] - uj[2])};
+                const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
+                                              (v[1] - uj[1]) * (v[1] - uj[1]) +
+                                              (v[2] - uj[2]) * (v[2] - uj[2]));
+                if (!(step <= divergence_bound))
+                  {
+                    // Reported after the sweep (not thrown from a thread).
+                    diverged[b] = step;
+                    return;
+                  }
+                if (gauss_seidel)
+                  uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
+                else
+                  jacobi_values[q] = {{v[0], v[1], v[2]}};
+
+                // seed 2.3.3: the gradient over the point's last W updates,
+                // of the change eq. 12 asks for (the step divided by the
+                // factor): a damped update (factor below 1) would otherwise
+                // stop at once far from the answer (issue 15: factor 0.01),
+                // and an over-relaxed one would meet a threshold that means
+                // less than the seed's (Table 1).
+                const double change = step / wj;
+                double      &slot =
+                  steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
+                step_sum[j] += change - slot;
+                slot           = change;
+                largest_change = std::max(largest_change, step);
+                ++n_updates[j];
+                const bool stopped =
+                  n_updates[j] >= W && step_sum[j] / W < threshold;
+                all_stopped &= stopped;
+
+                if (!use_active_set)
+                  continue;
+                if (!stopped)
+                  active.queue(j, queued);
+                if (step > threshold)
+                  for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+                    if (is_free[neighbour[i]])
+                      active.queue(neighbour[i], queued);
+              }
+            block_stopped[b] = all_stopped;
+          };
+          for (const auto &blocks : colouring->colours)
+            Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
+              block_update(blocks[k]);
+            });
+          bool   all_stopped    = true;
+          double largest_change = 0.;
+          for (unsigned int b = 0; b < n_blocks; ++b)
             {
-              const unsigned int j = current[q];
-              // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
-              double f0 = 0., f1 = 0., f2 = 0.;
-              if (load != nullptr)
-                {
-                  f0 = -load[3 * j];
-                  f1 = -load[3 * j + 1];
-                  f2 = -load[3 * j + 2];
-                }
-              for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                {
-                  const double *B  = coupling[i].data();
-                  const double *uk = u + 3 * neighbour[i];
-                  f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
-                  f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
-                  f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
-                }
-              const double *D      = diagonal_inverse[j].data();
-              double       *uj     = u + 3 * j;
-              double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
-                                      -(D[3] * f0 + D[4] * f1 + D[5] * f2),
-                                      -(D[6] * f0 + D[7] * f1 + D[8] * f2)};
-              double        wj     = w;
-              if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
-                {
-                  constrained_update(
-                    j, opt, u, load, prescribed, threshold, active);
-                  // The constrained minimiser whole: a relaxed step past it
-                  // could pass through the constraint.
-                  wj = 1.;
-                }
-              const double v[3] = {uj[0] + wj * (opt[0] - uj[0]),
-                                   uj[1] + wj * (opt[1] - uj[1]),
-                                   uj[2] + wj * (opt[2] - uj[2])};
-              const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
-                                            (v[1] - uj[1]) * (v[1] - uj[1]) +
-                                            (v[2] - uj[2]) * (v[2] - uj[2]));
-              if (!(step <= divergence_bound))
+              if (!(diverged[b] == 0.)) // NaN too
                 {
                   std::ostringstream m;
                   m << std::setprecision(3) << "mass tensor ("
                     << (gauss_seidel ? "gauss-seidel" : "jacobi")
-                    << "): the local updates diverge (a point moved by " << step
-                    << " mm in sweep " << sweep
+                    << "): the local updates diverge (a point moved by "
+                    << diverged[b] << " mm in sweep " << sweep
                     << "). Jacobi order does not converge for every mesh and "
                        "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
                        "'Relaxation factor' below 1.";
                   throw Error(m.str());
                 }
-              if (gauss_seidel)
-                uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
-              else
-                jacobi_values[q] = {{v[0], v[1], v[2]}};
-
-              // seed 2.3.3: the gradient over the point's last W updates,
-              // of the change eq. 12 asks for (the step divided by the
-              // factor): a damped update (factor below 1) would otherwise
-              // stop at once far from the answer (issue 15: factor 0.01),
-              // and an over-relaxed one would meet a threshold that means
-              // less than the seed's (Table 1).
-              const double change = step / wj;
-              double      &slot =
-                steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
-              step_sum[j] += change - slot;
-              slot           = change;
-              largest_change = std::max(largest_change, step);
-              ++n_updates[j];
-              const bool stopped =
-                n_updates[j] >= W && step_sum[j] / W < threshold;
-              all_stopped &= stopped;
-
-              if (!use_active_set)
-                continue;
-              if (!stopped)
-                active.queue(j);
-              if (step > threshold)
-                for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                  if (is_free[neighbour[i]])
-                    active.queue(neighbour[i]);
+              all_stopped &= block_stopped[b];
+              largest_change = std::max(largest_change, block_largest[b]);
+              active.add(block_queued[b]);
             }
           if (!gauss_seidel)
             for (unsigned int q = 0; q < current.size(); ++q)

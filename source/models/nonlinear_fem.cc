@@ -2,9 +2,12 @@
 // layout: its discretisation (cell geometry, closed-form forces and tangent
 // added straight into the matrix); the Newton solve is NonlinearElasticity's.
 
+#include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/nonlinear_fem.h>
+
+#include <algorithm>
 
 
 namespace softface
@@ -58,6 +61,7 @@ namespace softface
       }
 
       const auto timed = phase("matrix positions");
+      partition.reinit(cell_dofs, is_join.size(), Threads::n_threads());
       ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
       // Where each of a cell's 144 tangent entries lives in the matrix's
       // value array: every Newton iteration adds to them directly instead of
@@ -109,41 +113,58 @@ namespace softface
           // first in each row, so entry (0,0) is the start of that array.
           values = &tangent->diag_element(0);
         }
-      Elasticity::P1Response      response;
-      std::array<Tensor<1, 3>, 4> u_cell;
-      for (unsigned int c = 0; c < cell_dofs.size(); ++c)
+      // Each part adds its own rows (RowPartition); a refusal is the first
+      // refused cell in cell order, as on one thread.
+      const unsigned int        n_parts = partition.n_parts();
+      std::vector<unsigned int> refused(n_parts, numbers::invalid_unsigned_int);
+      Threads::run_tasks(n_parts, [&](const unsigned int p) {
+        Elasticity::P1Response      response;
+        std::array<Tensor<1, 3>, 4> u_cell;
+        const auto                  first = partition.first_row_of(p);
+        const auto                  end   = partition.first_row_of(p + 1);
+        for (const unsigned int c : partition.cells(p))
+          {
+            const auto &dofs = cell_dofs[c];
+            for (unsigned int a = 0; a < 4; ++a)
+              for (unsigned int i = 0; i < 3; ++i)
+                u_cell[a][i] = u[dofs[3 * a + i]];
+            if (!Elasticity::p1_response(law,
+                                         tissue_lame[scene->tissue_of_cell(c)],
+                                         cell_geometry[c],
+                                         u_cell,
+                                         values != nullptr,
+                                         response))
+              {
+                // A cell of join points only acts on prescribed DoFs: a
+                // planning that crushes it (across an osteotomy's kerf) is
+                // not the tissue's doing, and it is left out.
+                if (!cell_has_free_vertex[c])
+                  continue;
+                refused[p] = c;
+                return;
+              }
+            for (unsigned int r = 0; r < 12; ++r)
+              {
+                const auto row = dofs[r];
+                if (row < first || row >= end)
+                  continue;
+                forces[row] += response.force[r / 3][r % 3];
+                if (values == nullptr)
+                  continue;
+                const unsigned int *position =
+                  &cell_entry_positions[144 * c + 12 * r];
+                for (unsigned int b = 0; b < 4; ++b)
+                  for (unsigned int j = 0; j < 3; ++j)
+                    values[*position++] += response.tangent[r / 3][b][r % 3][j];
+              }
+          }
+      });
+      const unsigned int first_refused =
+        *std::min_element(refused.begin(), refused.end());
+      if (first_refused != numbers::invalid_unsigned_int)
         {
-          const auto &dofs = cell_dofs[c];
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              u_cell[a][i] = u[dofs[3 * a + i]];
-          if (!Elasticity::p1_response(law,
-                                       tissue_lame[scene->tissue_of_cell(c)],
-                                       cell_geometry[c],
-                                       u_cell,
-                                       tangent != nullptr,
-                                       response))
-            {
-              // A cell of join points only acts on prescribed DoFs: a
-              // planning that crushes it (across an osteotomy's kerf) is not
-              // the tissue's doing, and it is left out.
-              if (!cell_has_free_vertex[c])
-                continue;
-              refusal = describe_cell(c);
-              return false;
-            }
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              forces[dofs[3 * a + i]] += response.force[a][i];
-          if (values != nullptr)
-            {
-              const unsigned int *position = &cell_entry_positions[144 * c];
-              for (unsigned int a = 0; a < 4; ++a)
-                for (unsigned int i = 0; i < 3; ++i)
-                  for (unsigned int b = 0; b < 4; ++b)
-                    for (unsigned int j = 0; j < 3; ++j)
-                      values[*position++] += response.tangent[a][b][i][j];
-            }
+          refusal = describe_cell(first_refused);
+          return false;
         }
       return true;
     }

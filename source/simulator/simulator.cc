@@ -10,6 +10,7 @@
 #include <softface/core/planning.h>
 #include <softface/core/process.h>
 #include <softface/core/scene.h>
+#include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/fe/point_evaluation.h>
 #include <softface/io/output_file.h>
@@ -258,6 +259,7 @@ namespace softface
       effects;
     try
       {
+        Threads::set_limit(Models::selected_threads(prm));
         for (const std::string &name : Models::selected_names(prm))
           models.emplace_back(name, Models::create(name, prm));
         // Every selected model must simulate every effect the scene calls
@@ -534,8 +536,9 @@ namespace softface
         << (skin ? ", skin.csv, skin_*.ply/.vtp" : "")
         << ", input.prm, parameters.prm)\n"
         << "Wall time " << std::setprecision(2) << Process::wall_time()
-        << " s (the whole process), peak memory " << memory.VmHWM / 1024
-        << " MB" << std::endl;
+        << " s (the whole process, " << Threads::n_threads()
+        << (Threads::n_threads() == 1 ? " thread" : " threads")
+        << "), peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;
     if (n_failed > 0)
       {
         std::string names;

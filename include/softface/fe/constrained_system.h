@@ -45,12 +45,16 @@ namespace softface
                     const Elasticity::CellMatrix                  &K,
                     SparseMatrix<double>                          &matrix);
 
-    /// The same, with the order precomputed (sorted_order(dofs)).
+    /// The same, with the order precomputed (sorted_order(dofs)), adding
+    /// only the rows in [@p first_row, @p end_row) (a RowPartition's part).
     void
-    add_cell_matrix(const std::array<types::global_dof_index, 12> &dofs,
-                    const std::array<std::uint8_t, 12>            &order,
-                    const Elasticity::CellMatrix                  &K,
-                    SparseMatrix<double>                          &matrix);
+    add_cell_matrix(
+      const std::array<types::global_dof_index, 12> &dofs,
+      const std::array<std::uint8_t, 12>            &order,
+      const Elasticity::CellMatrix                  &K,
+      SparseMatrix<double>                          &matrix,
+      types::global_dof_index                        first_row = 0,
+      types::global_dof_index end_row = numbers::invalid_dof_index);
 
     /**
      * Eliminate the join DoFs symmetrically: zero their rows and columns,

@@ -2,6 +2,7 @@
 #define softface_active_set_h
 
 #include <algorithm>
+#include <atomic>
 #include <vector>
 
 namespace softface
@@ -17,18 +18,38 @@ namespace softface
   {
   public:
     explicit ActiveSet(const unsigned int n_points)
-        : queued_in(n_points, 0)
+        : queued_in(n_points) // zero: no sweep's stamp
     {}
 
     /// Visit @p point in the next sweep (again queuing it does nothing).
     void
     queue(const unsigned int point)
     {
-      if (queued_in[point] != stamp)
+      if (queued_in[point].load(std::memory_order_relaxed) != stamp)
         {
-          queued_in[point] = stamp;
+          queued_in[point].store(stamp, std::memory_order_relaxed);
           queued.push_back(point);
         }
+    }
+
+    /**
+     * The same from one of several threads sweeping at once: the point goes
+     * to that thread's @p list (a point queued by several lands in one),
+     * which add() hands over once the threads are done.
+     */
+    void
+    queue(const unsigned int point, std::vector<unsigned int> &list)
+    {
+      if (queued_in[point].exchange(stamp, std::memory_order_relaxed) != stamp)
+        list.push_back(point);
+    }
+
+    /// Take over the points a thread queued (and empty its @p list).
+    void
+    add(std::vector<unsigned int> &list)
+    {
+      queued.insert(queued.end(), list.begin(), list.end());
+      list.clear();
     }
 
     /// Start the next sweep: the queued points become current, ascending.
@@ -40,7 +61,7 @@ namespace softface
         {
           queued.clear();
           for (unsigned int j = 0; j < queued_in.size(); ++j)
-            if (queued_in[j] == stamp)
+            if (queued_in[j].load(std::memory_order_relaxed) == stamp)
               queued.push_back(j);
         }
       else
@@ -59,10 +80,11 @@ namespace softface
     }
 
   private:
-    std::vector<unsigned int> queued_in; // sweep stamp a point is queued for
-    std::vector<unsigned int> queued;
-    std::vector<unsigned int> current_points;
-    unsigned int              stamp = 1;
+    // The sweep stamp a point is queued for (atomic: threads queue at once).
+    std::vector<std::atomic<unsigned int>> queued_in;
+    std::vector<unsigned int>              queued;
+    std::vector<unsigned int>              current_points;
+    unsigned int                           stamp = 1;
   };
 } // namespace softface
 

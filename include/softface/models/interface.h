@@ -203,6 +203,10 @@ namespace softface
     std::vector<std::string>
     selected_names(ParameterHandler &prm);
 
+    /// "Models/Threads" of a parsed handler (0: every core).
+    unsigned int
+    selected_threads(ParameterHandler &prm);
+
     /// Create the model called @p name and let it parse its subsection.
     std::unique_ptr<Interface>
     create(const std::string &name, ParameterHandler &prm);

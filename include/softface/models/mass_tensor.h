@@ -9,6 +9,7 @@
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/vertex_constraints.h>
 #include <softface/models/active_set.h>
+#include <softface/models/block_colouring.h>
 #include <softface/models/interface.h>
 #include <softface/models/point_mesh.h>
 
@@ -144,6 +145,8 @@ namespace softface
       };
       std::vector<PointConstraint> point_constraints;
       std::vector<int>             constraint_of_point;
+      /// The order of the updates in a sweep, and what may run at once.
+      std::unique_ptr<BlockColouring> colouring;
 
       /// The local problem's minimiser at point @p j: K_jj^-1 (f_j - sum_k
       /// K_jk u_k) (seed eq. 12).
@@ -155,13 +158,14 @@ namespace softface
       /// Move @p opt, point j's minimiser, onto its constraint (and, for a
       /// pair, the partner point too).
       void
-      constrained_update(const unsigned int    j,
-                         double                opt[3],
-                         double *const         u,
-                         const double *const   load,
-                         const Vector<double> &prescribed,
-                         const double          threshold,
-                         ActiveSet            &active) const;
+      constrained_update(const unsigned int         j,
+                         double                     opt[3],
+                         double *const              u,
+                         const double *const        load,
+                         const Vector<double>      &prescribed,
+                         const double               threshold,
+                         ActiveSet                 &active,
+                         std::vector<unsigned int> &queued) const;
 
       // The converged answer's system, built when first needed.
       SparsityPattern      converged_sparsity;

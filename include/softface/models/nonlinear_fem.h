@@ -2,6 +2,7 @@
 #define softface_models_nonlinear_fem_h
 
 #include <softface/core/tetrahedron.h>
+#include <softface/fe/row_partition.h>
 #include <softface/models/nonlinear_elasticity.h>
 
 #include <array>
@@ -55,6 +56,8 @@ namespace softface
       /// act on prescribed DoFs only, so where a planning crushes them
       /// (across an osteotomy) they are left out instead of refused.
       std::vector<bool> cell_has_free_vertex;
+      /// The cells by the rows they add to (threaded evaluation).
+      RowPartition partition;
       /// The Lame coefficients of every tissue of the scene.
       std::vector<Lame> tissue_lame;
     };

@@ -1,0 +1,41 @@
+#ifndef softface_block_colouring_h
+#define softface_block_colouring_h
+
+#include <vector>
+
+namespace softface
+{
+  /**
+   * The points of a point mesh cut into blocks of consecutive indices, and
+   * the blocks coloured so that no point of a block is a neighbour of a
+   * point in another block of the same colour (issue 16). A Gauss-Seidel
+   * sweep then visits the colours in turn and the blocks of one colour on
+   * any number of threads at once, each block in index order: an update
+   * writes its own point and reads its neighbours, so no two concurrent
+   * blocks touch the same value, and the sweep is the same on one thread as
+   * on many. With points in locality order (Mesh::order_for_locality) a
+   * block is a compact piece of the mesh, and the colours are few.
+   */
+  struct BlockColouring
+  {
+    /**
+     * Blocks of max(256, n / 256) points (independent of the number of
+     * threads, so that the order of the updates is too), coloured greedily
+     * in block order. @p row_start and @p neighbour: the point mesh's
+     * symmetric adjacency in compressed rows.
+     */
+    BlockColouring(unsigned int                     n_points,
+                   const std::vector<unsigned int> &row_start,
+                   const std::vector<unsigned int> &neighbour);
+
+    /// A single block of every point (one colour): the plain index order.
+    explicit BlockColouring(unsigned int n_points);
+
+    /// Block b holds the points block_start[b] .. block_start[b+1]-1.
+    std::vector<unsigned int> block_start;
+    /// The blocks of each colour, ascending.
+    std::vector<std::vector<unsigned int>> colours;
+  };
+} // namespace softface
+
+#endif
