@@ -85,8 +85,8 @@ md = ["# One thread against two (issue 16: both cores)", "",
       "mass tensor sweeps at 500k.", "",
       "What runs on the threads: the P1 assembly of linear and nonlinear FEM (cells split by the "
       "rows they add to, `RowPartition`), the mass tensor sweeps (blocks of points coloured so that "
-      "a colour's blocks update at once, `BlockColouring`) and deal.II's own vector and matrix "
-      "operations. Trilinos ML and AztecOO (the preconditioner and CG/GMRES) are built without "
+      "a colour's blocks update at once, `BlockColouring`; the mass spring sweeps too, not run here: "
+      "minutes per run at this size) and deal.II's own vector and matrix operations. Trilinos ML and AztecOO (the preconditioner and CG/GMRES) are built without "
       "threads in Debian and run on one; so do the mesh read and the sparsity pattern.", "",
       "| model | phase | 1 thread s | 2 threads s | speed-up |", "|---|---|---:|---:|---:|"]
 plot = []

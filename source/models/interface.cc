@@ -256,15 +256,16 @@ namespace softface
         "0",
         Patterns::Integer(0),
         "Threads for the P1 assembly of linear and nonlinear FEM, the mass "
-        "tensor sweeps and deal.II's vector and matrix operations; 0 means "
+        "tensor and mass spring sweeps (scenes with sliding contact or "
+        "separated lips sweep on one) and deal.II's vector and matrix "
+        "operations; 0 means "
         "every core (the environment variable DEAL_II_NUM_THREADS caps it). "
         "Assembly and sweeps give the same numbers on any number of threads; "
         "deal.II's vector operations sum long vectors in pieces per thread, "
         "which moves an iterative solver's answer by round-off (about 1e-12 "
         "relative at 491k tetrahedra, far below its tolerance). The linear "
-        "solvers' preconditioners (Trilinos ML, CHOLMOD), the mesh read, the "
-        "mass spring sweeps and the quadratic reference's assembly run on "
-        "one.");
+        "solvers' preconditioners (Trilinos ML, CHOLMOD), the mesh read and "
+        "the quadratic reference's assembly run on one.");
       registry().declare_subsections(prm);
       prm.leave_subsection();
     }

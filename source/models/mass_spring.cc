@@ -4,7 +4,9 @@
 
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
+#include <softface/core/threads.h>
 #include <softface/models/active_set.h>
+#include <softface/models/block_colouring.h>
 #include <softface/models/mass_spring.h>
 
 #include <algorithm>
@@ -333,9 +335,18 @@ namespace softface
             initial += force(j, shortest).norm_square();
           }
 
-      unsigned long long blocked_updates = 0;
-      unsigned int       sweep           = 0;
-      unsigned long long point_updates   = 0;
+      // A constrained update moves its partner too, further than a block's
+      // colour keeps apart: such scenes sweep in plain order on one thread.
+      const BlockColouring colouring =
+        constraints.empty() ? BlockColouring(n, row_start, other_end) :
+                              BlockColouring(n);
+      const unsigned int n_blocks = colouring.block_start.size() - 1;
+      std::vector<unsigned long long>        block_blocked(n_blocks, 0);
+      std::vector<char>                      not_finite(n_blocks, 0);
+      std::vector<std::vector<unsigned int>> block_queued(n_blocks);
+      unsigned long long                     blocked_updates = 0;
+      unsigned int                           sweep           = 0;
+      unsigned long long                     point_updates   = 0;
       for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
         {
           fraction = double(load_step) / n_load_steps;
@@ -389,73 +400,106 @@ namespace softface
                                "): " + std::to_string(current->size()) +
                                " active points\n"
                           << std::flush;
-              for (const unsigned int j : *current)
-                {
-                  Tensor<1, 3>       step = free_step(j), step_other;
-                  const unsigned int partner =
-                    (!constraint_of_point.empty() &&
-                     constraint_of_point[j] >= 0) ?
-                      constrain(j, step, step_other) :
-                      numbers::invalid_unsigned_int;
-                  const bool paired = partner != numbers::invalid_unsigned_int;
-                  const double size =
-                    std::max(step.norm(), paired ? step_other.norm() : 0.);
-                  if (!(size > stop_threshold))
+              // The blocks of one colour at once (BlockColouring), each over
+              // its points of this sweep in order; the colours in turn.
+              const auto block_update = [&](const unsigned int b) {
+                std::vector<unsigned int> &queued = block_queued[b];
+                const auto first = std::lower_bound(current->begin(),
+                                                    current->end(),
+                                                    colouring.block_start[b]);
+                const auto last =
+                  std::lower_bound(first,
+                                   current->end(),
+                                   colouring.block_start[b + 1]);
+                for (auto point = first; point != last; ++point)
+                  {
+                    const unsigned int j = *point;
                     {
-                      if (!std::isfinite(size))
-                        throw Error("mass spring: the force on a point "
-                                    "became infinite or NaN (a spring of "
-                                    "zero length) in sweep " +
-                                    std::to_string(sweep) + ".");
-                      continue;
-                    }
-                  // Springs alone do not keep a tetrahedron from turning
-                  // inside out (seed 2.2, disadvantage 1): a step that would
-                  // invert one is halved until it does not, or not taken.
-                  const Point<3> old      = x[j];
-                  unsigned int   halvings = 0;
-                  for (; halvings < 8 && prevent_inversion;
-                       ++halvings, step *= 0.5)
-                    {
-                      x[j]          = old + step;
-                      bool inverted = false;
-                      for (unsigned int t = tet_start[j];
-                           t < tet_start[j + 1] && !inverted;
-                           ++t)
+                      Tensor<1, 3>       step = free_step(j), step_other;
+                      const unsigned int partner =
+                        (!constraint_of_point.empty() &&
+                         constraint_of_point[j] >= 0) ?
+                          constrain(j, step, step_other) :
+                          numbers::invalid_unsigned_int;
+                      const bool paired =
+                        partner != numbers::invalid_unsigned_int;
+                      const double size =
+                        std::max(step.norm(), paired ? step_other.norm() : 0.);
+                      if (!(size > stop_threshold))
                         {
-                          const auto &v = tetrahedra[tets_of_point[t]];
-                          inverted =
-                            Tetrahedron::signed_volume(
-                              {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
+                          if (!std::isfinite(size))
+                            {
+                              // Reported after the sweep (not from a thread).
+                              not_finite[b] = 1;
+                              return;
+                            }
+                          continue;
                         }
-                      if (!inverted)
-                        break;
+                      // Springs alone do not keep a tetrahedron from turning
+                      // inside out (seed 2.2, disadvantage 1): a step that
+                      // would invert one is halved until it does not, or not
+                      // taken.
+                      const Point<3> old      = x[j];
+                      unsigned int   halvings = 0;
+                      for (; halvings < 8 && prevent_inversion;
+                           ++halvings, step *= 0.5)
+                        {
+                          x[j]          = old + step;
+                          bool inverted = false;
+                          for (unsigned int t = tet_start[j];
+                               t < tet_start[j + 1] && !inverted;
+                               ++t)
+                            {
+                              const auto &v = tetrahedra[tets_of_point[t]];
+                              inverted =
+                                Tetrahedron::signed_volume(
+                                  {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
+                            }
+                          if (!inverted)
+                            break;
+                        }
+                      if (!prevent_inversion)
+                        x[j] = old + step;
+                      else if (halvings == 8)
+                        {
+                          x[j] = old;
+                          ++block_blocked[b];
+                          continue;
+                        }
+                      // A pair moves together (by as much of its step as j).
+                      if (paired)
+                        x[partner] +=
+                          (prevent_inversion ? std::pow(0.5, halvings) : 1.) *
+                          step_other;
+                      // Their own forces and their neighbours' have changed.
+                      const auto queue_around = [&](const unsigned int moved) {
+                        active.queue(moved, queued);
+                        for (unsigned int i = row_start[moved];
+                             i < row_start[moved + 1];
+                             ++i)
+                          if (is_free[other_end[i]])
+                            active.queue(other_end[i], queued);
+                      };
+                      queue_around(j);
+                      if (paired)
+                        queue_around(partner);
                     }
-                  if (!prevent_inversion)
-                    x[j] = old + step;
-                  else if (halvings == 8)
-                    {
-                      x[j] = old;
-                      ++blocked_updates;
-                      continue;
-                    }
-                  // A pair moves together (by as much of its step as j).
-                  if (paired)
-                    x[partner] +=
-                      (prevent_inversion ? std::pow(0.5, halvings) : 1.) *
-                      step_other;
-                  // Their own forces and their neighbours' have changed.
-                  const auto queue_around = [&](const unsigned int moved) {
-                    active.queue(moved);
-                    for (unsigned int i = row_start[moved];
-                         i < row_start[moved + 1];
-                         ++i)
-                      if (is_free[other_end[i]])
-                        active.queue(other_end[i]);
-                  };
-                  queue_around(j);
-                  if (paired)
-                    queue_around(partner);
+                  }
+              };
+              for (const auto &blocks : colouring.colours)
+                Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
+                  block_update(blocks[k]);
+                });
+              for (unsigned int b = 0; b < n_blocks; ++b)
+                {
+                  if (not_finite[b])
+                    throw Error("mass spring: the force on a point became "
+                                "infinite or NaN (a spring of zero length) "
+                                "in sweep " +
+                                std::to_string(sweep) + ".");
+                  blocked_updates += block_blocked[b];
+                  block_blocked[b] = 0;
+                  active.add(block_queued[b]);
                 }
             }
         }
