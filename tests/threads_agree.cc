@@ -5,8 +5,9 @@
 // model's answer on 3 threads equals its one-thread answer (to round-off:
 // deal.II splits long vectors' sums among threads, which these are not). A
 // RowPartition of 7 parts visits every cell once per part its rows fall in.
-// Independent truth: the one-thread computation (3 threads and 7 parts are past
-// this machine's cores, so the tasks really interleave).
+// Independent truth: the one-thread computation. "3 threads" asks for 3 and
+// gets as many as the machine has cores (2 here); the 7-part partition is
+// checked directly.
 
 #include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>

@@ -6,6 +6,7 @@
 
 #include <softface/core/threads.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 // Present only when the BLAS in use is OpenBLAS.
@@ -27,8 +28,11 @@ namespace softface
     void
     set_limit(const unsigned int n)
     {
+      // More threads than cores only split the work finer (a scene asking
+      // for 100000 made as many assembly parts).
+      const unsigned int cores = dealii::MultithreadInfo::n_cores();
       dealii::MultithreadInfo::set_thread_limit(
-        n == 0 ? dealii::numbers::invalid_unsigned_int : n);
+        n == 0 ? dealii::numbers::invalid_unsigned_int : std::min(n, cores));
     }
 
     unsigned int

@@ -24,7 +24,7 @@ namespace softface
     first_row[parts] = n_rows;
     part_cells.assign(parts, {});
     for (auto &cells : part_cells)
-      cells.reserve(cell_dofs.size() / parts + cell_dofs.size() / 50);
+      cells.reserve(cell_dofs.size() / parts);
     for (unsigned int c = 0; c < cell_dofs.size(); ++c)
       {
         // A cell's rows fall in a few parts at most: each part once, in

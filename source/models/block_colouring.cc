@@ -1,5 +1,6 @@
 // Blocks of points coloured for threaded Gauss-Seidel sweeps (issue 16).
 
+#include <softface/core/threads.h>
 #include <softface/models/block_colouring.h>
 
 #include <algorithm>
@@ -44,4 +45,21 @@ namespace softface
       : block_start{0, n_points}
       , colours{{0}}
   {}
+
+  void
+  BlockColouring::sweep(
+    const std::vector<unsigned int>                                   &points,
+    const std::function<void(unsigned int, std::size_t, std::size_t)> &update)
+    const
+  {
+    for (const auto &blocks : colours)
+      Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
+        const unsigned int b = blocks[k];
+        const auto         begin =
+          std::lower_bound(points.begin(), points.end(), block_start[b]);
+        const auto end =
+          std::lower_bound(begin, points.end(), block_start[b + 1]);
+        update(b, begin - points.begin(), end - points.begin());
+      });
+  }
 } // namespace softface

@@ -4,7 +4,6 @@
 
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
-#include <softface/core/threads.h>
 #include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/mass_spring.h>
@@ -340,7 +339,7 @@ namespace softface
       const BlockColouring colouring =
         constraints.empty() ? BlockColouring(n, row_start, other_end) :
                               BlockColouring(n);
-      const unsigned int n_blocks = colouring.block_start.size() - 1;
+      const unsigned int                     n_blocks = colouring.n_blocks();
       std::vector<unsigned long long>        block_blocked(n_blocks, 0);
       std::vector<char>                      not_finite(n_blocks, 0);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
@@ -402,18 +401,13 @@ namespace softface
                           << std::flush;
               // The blocks of one colour at once (BlockColouring), each over
               // its points of this sweep in order; the colours in turn.
-              const auto block_update = [&](const unsigned int b) {
+              const auto block_update = [&](const unsigned int b,
+                                            const std::size_t  begin,
+                                            const std::size_t  end) {
                 std::vector<unsigned int> &queued = block_queued[b];
-                const auto first = std::lower_bound(current->begin(),
-                                                    current->end(),
-                                                    colouring.block_start[b]);
-                const auto last =
-                  std::lower_bound(first,
-                                   current->end(),
-                                   colouring.block_start[b + 1]);
-                for (auto point = first; point != last; ++point)
+                for (std::size_t q = begin; q < end; ++q)
                   {
-                    const unsigned int j = *point;
+                    const unsigned int j = (*current)[q];
                     {
                       Tensor<1, 3>       step = free_step(j), step_other;
                       const unsigned int partner =
@@ -486,10 +480,7 @@ namespace softface
                     }
                   }
               };
-              for (const auto &blocks : colouring.colours)
-                Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
-                  block_update(blocks[k]);
-                });
+              colouring.sweep(*current, block_update);
               for (unsigned int b = 0; b < n_blocks; ++b)
                 {
                   if (not_finite[b])

@@ -8,7 +8,6 @@
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
-#include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/active_set.h>
@@ -596,10 +595,9 @@ namespace softface
       double                 estimated_distance = 0., contraction_rate = 0.;
       Timer                  sweep_timer;
       auto                   sweeps_phase = phase("sweeps");
-      const unsigned int     n_blocks =
-        colouring->colours.empty() ? 0 : colouring->block_start.size() - 1;
-      std::vector<double> block_largest(n_blocks), diverged(n_blocks, 0.);
-      std::vector<char>   block_stopped(n_blocks);
+      const unsigned int     n_blocks     = colouring->n_blocks();
+      std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
+      std::vector<char>      block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
@@ -632,20 +630,13 @@ namespace softface
 
           // The blocks of one colour at once (BlockColouring), each over
           // its points of this sweep in order; the colours in turn.
-          const auto block_update = [&](const unsigned int b) {
+          const auto block_update = [&](const unsigned int b,
+                                        const std::size_t  q_begin,
+                                        const std::size_t  q_end) {
             double                    &largest_change = block_largest[b];
             std::vector<unsigned int> &queued         = block_queued[b];
             largest_change                            = 0.;
-            block_stopped[b]                          = true;
-            const auto q_begin = std::lower_bound(current.begin(),
-                                                  current.end(),
-                                                  colouring->block_start[b]) -
-                                 current.begin();
-            const auto q_end = std::lower_bound(current.begin() + q_begin,
-                                                current.end(),
-                                                colouring->block_start[b + 1]) -
-                               current.begin();
-            bool all_stopped = true;
+            bool all_stopped                          = true;
             for (auto q = q_begin; q < q_end; ++q)
               {
                 const unsigned int j = current[q];
@@ -724,10 +715,7 @@ namespace softface
               }
             block_stopped[b] = all_stopped;
           };
-          for (const auto &blocks : colouring->colours)
-            Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
-              block_update(blocks[k]);
-            });
+          colouring->sweep(current, block_update);
           bool   all_stopped    = true;
           double largest_change = 0.;
           for (unsigned int b = 0; b < n_blocks; ++b)

@@ -19,8 +19,9 @@ namespace softface
   namespace Threads
   {
     /**
-     * Use at most @p n threads (the scene's Models/Threads); 0 means every
-     * core. The environment variable DEAL_II_NUM_THREADS, if set, caps it.
+     * Use at most @p n threads (the scene's Models/Threads), no more than
+     * there are cores; 0 means every core. The environment variable
+     * DEAL_II_NUM_THREADS, if set, caps it.
      */
     void
     set_limit(unsigned int n);

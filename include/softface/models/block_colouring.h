@@ -1,6 +1,8 @@
 #ifndef softface_block_colouring_h
 #define softface_block_colouring_h
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace softface
@@ -30,6 +32,22 @@ namespace softface
 
     /// A single block of every point (one colour): the plain index order.
     explicit BlockColouring(unsigned int n_points);
+
+    unsigned int
+    n_blocks() const
+    {
+      return block_start.size() - 1;
+    }
+
+    /**
+     * One sweep over @p points (ascending): @p update(b, begin, end) for
+     * every block b, with points[begin..end) the ones in b; the blocks of a
+     * colour on the threads at once, the colours in turn.
+     */
+    void
+    sweep(const std::vector<unsigned int> &points,
+          const std::function<void(unsigned int, std::size_t, std::size_t)>
+            &update) const;
 
     /// Block b holds the points block_start[b] .. block_start[b+1]-1.
     std::vector<unsigned int> block_start;
