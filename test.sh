@@ -6,7 +6,8 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/bootstrap.sh
-softface_ensure_packages
+# Chromium for the browser test of softface serve (tests/serve_browser.sh).
+softface_ensure_packages chromium
 if [ "${1:-}" = "--sanitize" ]; then
   # AddressSanitizer and UndefinedBehaviorSanitizer on softface itself (not on
   # deal.II or its libraries), run on the bad inputs and the fuzz sample: what
@@ -21,5 +22,6 @@ if [ "${1:-}" = "--sanitize" ]; then
   exec ctest --output-on-failure -j2 -R "bad_input/|fuzz_sample" "$@"
 fi
 softface_build
+softface_web_packages
 cd "${SOFTFACE_BUILD_DIR:-build}"
 exec ctest --output-on-failure -j2 "$@"

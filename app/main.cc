@@ -8,6 +8,7 @@
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/models/interface.h>
+#include <softface/serve/serve.h>
 #include <softface/simulator/simulator.h>
 
 #include <iostream>
@@ -37,6 +38,8 @@ main(int argc, char **argv)
     "post-operative skull by ICP\n"
     "       softface register SCENE.prm   a post-operative CT registered to "
     "the pre-operative one\n"
+    "       softface serve SCENE.prm      a browser page to move the bones "
+    "and see the face (Serve)\n"
     "       softface --print-parameters   print every parameter with its "
     "default and documentation\n"
     "       softface --help\n";
@@ -45,6 +48,8 @@ main(int argc, char **argv)
       if (argc == 3)
         {
           const std::string stage = argv[1];
+          if (stage == "serve")
+            return softface::Serve::serve(argv[2], std::cout);
           if (stage != "phantom" && stage != "segment" && stage != "mesh" &&
               stage != "postop" && stage != "plan" && stage != "register")
             {

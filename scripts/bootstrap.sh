@@ -38,6 +38,26 @@ softface_ensure_packages()
   fi
 }
 
+# softface serve's page: three.js (and, for the browser test, playwright-core) from the npm
+# registry into web/node_modules, as web/package-lock.json pins them. Needs Node.js 20 (the
+# machine's, or Debian's nodejs and npm); a failure is reported and the rest goes on (only
+# 'softface serve' and the browser test need the page).
+softface_web_packages()
+{
+  if [ -f web/node_modules/three/build/three.module.js ] &&
+       [ -f web/node_modules/playwright-core/package.json ]; then
+    return 0
+  fi
+  if ! command -v npm > /dev/null; then
+    softface_ensure_packages nodejs npm
+  fi
+  echo "softface: installing the page's packages (npm ci in web/)"
+  (cd web && npm ci --no-audit --no-fund > npm-ci.log 2>&1) || {
+    cat web/npm-ci.log
+    echo "softface: warning: 'npm ci' in web/ failed; softface serve's page and the browser test need it"
+  }
+}
+
 # Configure (Release) and build in build/ with two jobs.
 # softface_build [cmake options...]: configure (once) and build. With
 # SOFTFACE_BUILD_TARGET set, only that target is built.

@@ -28,7 +28,6 @@ namespace softface
   Planning::declare_parameters(ParameterHandler               &prm,
                                const std::vector<std::string> &moved_segments)
   {
-    const auto vector3 = Patterns::List(Patterns::Double(), 3, 3);
     prm.enter_subsection("Planning");
     prm.declare_entry("Moved segments",
                       "bone",
@@ -36,11 +35,23 @@ namespace softface
                       "Bone segments that the surgeon moves, each with a "
                       "subsection 'Motion <name>'. Segments not listed stay "
                       "where they are (their join points do not move).");
+    declare_motion_entries(prm, moved_segments, true);
+    prm.leave_subsection();
+  }
+
+  void
+  Planning::declare_motion_entries(
+    ParameterHandler               &prm,
+    const std::vector<std::string> &moved_segments,
+    const bool                      default_lift)
+  {
+    const auto vector3 = Patterns::List(Patterns::Double(), 3, 3);
     for (const std::string &name : moved_segments)
       {
         prm.enter_subsection("Motion " + name);
         prm.declare_entry("Translation",
-                          name == "bone" ? "0, 0, 6" : "0, 0, 0",
+                          default_lift && name == "bone" ? "0, 0, 6" :
+                                                           "0, 0, 0",
                           vector3,
                           "Translation t in mm, applied after the rotation: "
                           "x -> R (x - c) + c + t.");
@@ -60,7 +71,6 @@ namespace softface
                           "means the centroid of the segment's join points.");
         prm.leave_subsection();
       }
-    prm.leave_subsection();
   }
 
   std::vector<std::string>
@@ -75,12 +85,24 @@ namespace softface
   void
   Planning::parse_parameters(ParameterHandler &prm, const Scene &scene)
   {
-    motion_of_segment.clear();
     prm.enter_subsection("Planning");
-    for (const std::string &name :
-         Utilities::split_string_list(prm.get("Moved segments")))
+    const auto names = Utilities::split_string_list(prm.get("Moved segments"));
+    parse_motions(prm, scene, names, "Planning");
+    prm.leave_subsection();
+  }
+
+  void
+  Planning::parse_motions(ParameterHandler               &prm,
+                          const Scene                    &scene,
+                          const std::vector<std::string> &moved_segments,
+                          const std::string              &where,
+                          const Adjustment               &adjust)
+  {
+    motion_of_segment.clear();
+    for (const std::string &name : moved_segments)
       {
-        unsigned int segment;
+        const std::string motion_where = where + "/Motion " + name;
+        unsigned int      segment;
         try
           {
             segment = scene.segment_index(name);
@@ -93,18 +115,22 @@ namespace softface
           }
 
         prm.enter_subsection("Motion " + name);
-        const Tensor<1, 3> translation = parse_vector(prm.get("Translation"));
-        const Tensor<1, 3> axis        = parse_vector(prm.get("Rotation axis"));
-        const double       angle       = prm.get_double("Rotation angle");
-        const std::string  centre_text = prm.get("Rotation centre");
+        MotionEntries entries;
+        entries.translation      = parse_vector(prm.get("Translation"));
+        entries.axis             = parse_vector(prm.get("Rotation axis"));
+        entries.angle_in_degrees = prm.get_double("Rotation angle");
+        entries.centre           = prm.get("Rotation centre");
         prm.leave_subsection();
+        if (adjust)
+          adjust(name, entries);
 
-        Point<3> centre;
+        Point<3>          centre;
+        const std::string centre_text = entries.centre;
         if (!centre_text.empty())
           {
-            const auto entries = Utilities::split_string_list(centre_text);
-            if (entries.size() != 3)
-              throw Error("Planning/Motion " + name +
+            const auto parts = Utilities::split_string_list(centre_text);
+            if (parts.size() != 3)
+              throw Error(motion_where +
                           ": 'Rotation centre' must be empty or 'x, y, z' "
                           "(got '" +
                           centre_text + "').");
@@ -114,7 +140,7 @@ namespace softface
               }
             catch (const std::exception &)
               {
-                throw Error("Planning/Motion " + name +
+                throw Error(motion_where +
                             ": 'Rotation centre' is not three numbers (got '" +
                             centre_text + "').");
               }
@@ -122,7 +148,7 @@ namespace softface
             // patterns refuse.
             for (unsigned int d = 0; d < 3; ++d)
               if (!std::isfinite(centre[d]))
-                throw Error("Planning/Motion " + name +
+                throw Error(motion_where +
                             ": 'Rotation centre' must be finite (got '" +
                             centre_text + "').");
           }
@@ -132,21 +158,24 @@ namespace softface
             // found them (before an effect freed some).
             const auto &c = scene.segments[segment].join_centroid;
             if (c.size() != 3)
-              throw Error("Planning/Motion " + name +
+              throw Error(motion_where +
                           ": the segment has no join point to take the "
                           "'Rotation centre' from; give one.");
             centre = Point<3>(c[0], c[1], c[2]);
           }
         try
           {
-            set_motion(segment, RigidMotion(translation, axis, angle, centre));
+            set_motion(segment,
+                       RigidMotion(entries.translation,
+                                   entries.axis,
+                                   entries.angle_in_degrees,
+                                   centre));
           }
         catch (const Error &e)
           {
-            throw Error("Planning/Motion " + name + ": " + e.what());
+            throw Error(motion_where + ": " + e.what());
           }
       }
-    prm.leave_subsection();
   }
 
   void
@@ -162,6 +191,15 @@ namespace softface
     return m == motion_of_segment.end() ? RigidMotion() : m->second;
   }
 
+  std::vector<unsigned int>
+  Planning::moved_segments() const
+  {
+    std::vector<unsigned int> segments;
+    for (const auto &[segment, motion] : motion_of_segment)
+      segments.push_back(segment);
+    return segments;
+  }
+
   Vector<double>
   Planning::prescribed_displacement(const Scene &scene, const double load) const
   {
@@ -170,15 +208,36 @@ namespace softface
     if (load != 1.)
       for (auto &[segment, motion] : motions)
         motion = motion.fraction(load);
+    return join_displacement(scene,
+                             moved_segments(),
+                             [&motions](const unsigned int segment,
+                                        const Point<3>    &x) {
+                               return motions.at(segment).displacement(x);
+                             });
+  }
+
+  Vector<double>
+  Planning::join_displacement(
+    const Scene                                          &scene,
+    const std::vector<unsigned int>                      &segments,
+    const std::function<Tensor<1, 3>(const unsigned int segment,
+                                     const Point<3>    &x)> &displacement)
+  {
+    std::vector<bool> moved(scene.segments.size(), false);
+    for (const unsigned int s : segments)
+      moved[s] = true;
+    const auto is_moved = [&moved](const unsigned int segment) {
+      return segment < moved.size() && moved[segment];
+    };
     Vector<double> u(scene.dof_handler.n_dofs());
     const auto    &vertices = scene.triangulation.get_vertices();
     for (unsigned int v = 0; v < vertices.size(); ++v)
       {
-        const auto motion = motions.find(scene.vertex_segment()[v]);
-        if (motion == motions.end() ||
+        const unsigned int segment = scene.vertex_segment()[v];
+        if (!is_moved(segment) ||
             scene.vertex_dofs()[v][0] == numbers::invalid_dof_index)
           continue;
-        const Tensor<1, 3> d = motion->second.displacement(vertices[v]);
+        const Tensor<1, 3> d = displacement(segment, vertices[v]);
         for (unsigned int c = 0; c < 3; ++c)
           u[scene.vertex_dofs()[v][c]] = d[c];
       }
@@ -186,11 +245,10 @@ namespace softface
     // which places the surface (SceneEffects::free_vertex_constraints).
     for (const auto &constraint : scene.effects.vertex_constraints)
       {
-        const auto motion = motions.find(constraint.segment);
-        if (motion == motions.end())
+        if (!is_moved(constraint.segment))
           continue;
         const Tensor<1, 3> d =
-          motion->second.displacement(vertices[constraint.vertex]);
+          displacement(constraint.segment, vertices[constraint.vertex]);
         for (unsigned int c = 0; c < 3; ++c)
           u[scene.vertex_dofs()[constraint.vertex][c]] = d[c];
       }

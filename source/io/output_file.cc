@@ -27,4 +27,15 @@ namespace softface
                   (error ? error.message() : std::string("not a directory")) +
                   ").");
   }
+
+  std::string
+  csv_field(const std::string &text)
+  {
+    if (text.find_first_of(",\"\n") == std::string::npos)
+      return text;
+    std::string quoted = "\"";
+    for (const char c : text)
+      quoted += (c == '"') ? std::string("\"\"") : std::string(1, c);
+    return quoted + '"';
+  }
 } // namespace softface

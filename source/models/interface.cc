@@ -68,6 +68,21 @@ namespace softface
       return SceneEffects::none;
     }
 
+    bool
+    Interface::linear_in_motion(const Scene &) const
+    {
+      return false;
+    }
+
+    bool
+    has_unilateral_contact(const Scene &scene)
+    {
+      for (const auto &constraint : scene.effects.vertex_constraints)
+        if (constraint.unilateral)
+          return true;
+      return false;
+    }
+
     void
     Interface::setup(const Scene &scene)
     {

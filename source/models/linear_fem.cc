@@ -54,6 +54,12 @@ namespace softface
              SceneEffects::free_vertex_constraints;
     }
 
+    bool
+    LinearFEM::linear_in_motion(const Scene &scene) const
+    {
+      return !has_unilateral_contact(scene);
+    }
+
     void
     LinearFEM::set_solver(const std::string &name, const double tolerance)
     {

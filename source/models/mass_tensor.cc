@@ -209,6 +209,12 @@ namespace softface
              SceneEffects::free_vertex_constraints;
     }
 
+    bool
+    MassTensor::linear_in_motion(const Scene &scene) const
+    {
+      return !has_unilateral_contact(scene);
+    }
+
     void
     MassTensor::do_setup(const Scene &scene_in)
     {

@@ -10,6 +10,7 @@
 #include <softface/simulator/output.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -21,8 +22,15 @@ namespace softface
     std::string
     file_name_of(const std::string &model)
     {
-      std::string name = model;
-      std::replace(name.begin(), name.end(), ' ', '_');
+      // Letters, digits, '.', '-' and '+' stay; any run of other characters
+      // (spaces, the comma before a plan's name) becomes one '_'.
+      std::string name;
+      for (const char c : model)
+        if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' ||
+            c == '-' || c == '+')
+          name += c;
+        else if (name.empty() || name.back() != '_')
+          name += '_';
       return name;
     }
 
@@ -53,12 +61,13 @@ namespace softface
         vector(3, DataComponentInterpretation::component_is_part_of_vector);
       for (const Report::ModelRun &run : runs)
         if (!run.failed)
-          data_out.add_data_vector(
-            scene.dof_handler,
-            run.displacement,
-            std::vector<std::string>(3,
-                                     "displacement_" + file_name_of(run.model)),
-            vector);
+          data_out.add_data_vector(scene.dof_handler,
+                                   run.displacement,
+                                   std::vector<std::string>(3,
+                                                            "displacement_" +
+                                                              file_name_of(
+                                                                run.label())),
+                                   vector);
       data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
       data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
       Vector<float> material(scene.triangulation.n_active_cells());

@@ -29,18 +29,6 @@ namespace softface
         return std::string(buffer, end);
       }
 
-      // A CSV field, quoted if it holds a comma, quote or line break.
-      std::string
-      csv_field(const std::string &text)
-      {
-        if (text.find_first_of(",\"\n") == std::string::npos)
-          return text;
-        std::string quoted = "\"";
-        for (const char c : text)
-          quoted += (c == '"') ? std::string("\"\"") : std::string(1, c);
-        return quoted + '"';
-      }
-
       std::string
       joined(const std::vector<std::string> &items, const std::string &by)
       {
@@ -56,12 +44,13 @@ namespace softface
                const std::string     &reference_model,
                std::vector<ModelRun> &runs)
     {
-      const ModelRun *reference = nullptr;
-      for (const ModelRun &run : runs)
-        if (run.model == reference_model && !run.failed)
-          reference = &run;
       for (ModelRun &run : runs)
         {
+          const ModelRun *reference = nullptr;
+          for (const ModelRun &candidate : runs)
+            if (candidate.model == reference_model &&
+                candidate.planning == run.planning && !candidate.failed)
+              reference = &candidate;
           run.compared = (reference != nullptr && !run.failed);
           if (run.compared)
             run.difference =
@@ -78,7 +67,12 @@ namespace softface
           const bool                   with_extras)
     {
       TableHandler table;
-      bool         any = false, compared = false;
+      bool         any = false, compared = false, plans = false, bases = false;
+      for (const ModelRun &run : runs)
+        {
+          plans |= !run.planning.empty();
+          bases |= run.basis_time > 0.;
+        }
       for (const ModelRun &run : runs)
         {
           if (run.failed)
@@ -87,6 +81,8 @@ namespace softface
           compared |= run.compared;
           const auto &s = run.statistics;
           table.add_value("model", run.model);
+          if (plans)
+            table.add_value("plan", run.planning);
           table.add_value("tets", scene.triangulation.n_active_cells());
           table.add_value("vertices", scene.n_vertices());
           table.add_value("free DoFs", scene.n_free_dofs());
@@ -97,6 +93,8 @@ namespace softface
           if (with_timings)
             {
               table.add_value("setup s", s.setup_time);
+              if (bases)
+                table.add_value("basis s", run.basis_time);
               table.add_value("solve s", s.solve_time);
             }
           table.add_value("iters", s.iterations);
@@ -118,6 +116,12 @@ namespace softface
       if (with_timings)
         for (const std::string column : {"setup s", "solve s"})
           table.set_precision(column, 3);
+      // A combination takes well under a millisecond.
+      if (with_timings && bases)
+        {
+          table.set_precision("basis s", 3);
+          table.set_precision("solve s", 5);
+        }
       table.set_precision("max |u| mm", 4);
       if (compared)
         for (const std::string column : {"|u - u_ref| max", "mean"})
@@ -160,20 +164,26 @@ namespace softface
           if (run.failed)
             {
               // Models' own errors start with the model's name.
-              out << (run.error.rfind(run.model + ":", 0) == 0 ?
+              out << (run.error.rfind(run.model + ":", 0) == 0 &&
+                          run.planning.empty() ?
                         "failed: " :
-                        run.model + " failed: ")
+                        run.label() + " failed: ")
                   << run.error << '\n';
               continue;
             }
-          if (with_timings)
+          // A model's later plans repeat its setup phases: summary.csv has
+          // them all.
+          const bool later_plan = &run != &runs.front() &&
+                                  (&run - 1)->model == run.model &&
+                                  !run.planning.empty();
+          if (with_timings && !later_plan)
             {
-              out << run.model << " phases (s):";
+              out << run.label() << " phases (s):";
               for (const auto &[name, seconds] : run.statistics.phases)
                 out << "  " << name << ' ' << std::setprecision(3) << seconds;
               out << '\n';
             }
-          out << run.model << " details:";
+          out << run.label() << " details:";
           out << "  relative residual " << std::setprecision(2)
               << std::scientific << run.statistics.residual;
           out.flags(flags);
@@ -182,7 +192,7 @@ namespace softface
               out << "  " << detail.name << ' ' << detail.formatted();
           out << '\n';
           for (const auto &warning : run.statistics.warnings)
-            out << run.model << " warning: " << warning << '\n';
+            out << run.label() << " warning: " << warning << '\n';
         }
       out.flags(flags);
     }
@@ -198,7 +208,7 @@ namespace softface
              "solve_s,iterations,relative_residual,max_displacement_mm,"
              "reference_model,max_diff_to_reference_mm,"
              "mean_diff_to_reference_mm,peak_memory_mb,phases,details,"
-             "warnings,error\n";
+             "warnings,error,plan,basis_s\n";
       for (const ModelRun &run : runs)
         {
           const auto &s = run.statistics;
@@ -230,7 +240,8 @@ namespace softface
           out << csv_field(joined(phases, ";")) << ','
               << csv_field(joined(details, ";")) << ','
               << csv_field(joined(s.warnings, " | ")) << ','
-              << csv_field(run.error) << '\n';
+              << csv_field(run.error) << ',' << csv_field(run.planning) << ','
+              << full(run.basis_time) << '\n';
         }
     }
 

@@ -8,6 +8,7 @@
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/planning.h>
+#include <softface/core/planning_list.h>
 #include <softface/core/process.h>
 #include <softface/core/scene.h>
 #include <softface/core/threads.h>
@@ -16,10 +17,12 @@
 #include <softface/io/output_file.h>
 #include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
+#include <softface/models/response_basis.h>
 #include <softface/patient/image_io.h>
 #include <softface/patient/pipeline.h>
 #include <softface/patient/planning_recovery.h>
 #include <softface/patient/vec3_parameter.h>
+#include <softface/serve/parameters.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
@@ -198,18 +201,40 @@ namespace softface
     }
   } // namespace
 
+  /// What prepare() makes and run() uses.
+  struct Simulator::Prepared
+  {
+    ParameterHandler prm;
+    OutputParameters output;
+    std::string      input_directory;
+    std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>>
+      models;
+    std::vector<std::pair<std::string, std::unique_ptr<Effects::Interface>>>
+                                     effects;
+    PlanningList                     plannings;
+    std::vector<Vector<double>>      prescribed;
+    std::unique_ptr<PointEvaluation> evaluation;
+    SkinParameters                   skin_parameters;
+    std::unique_ptr<SkinOutput>      skin;
+  };
+
+  Simulator::Simulator()  = default;
+  Simulator::~Simulator() = default;
+
   void
   Simulator::declare_parameters(ParameterHandler               &prm,
                                 const std::vector<std::string> &segment_names,
                                 const std::vector<std::string> &moved_segments,
-                                const std::vector<std::string> &cut_names)
+                                const std::vector<std::string> &cut_names,
+                                const std::vector<std::string> &plan_names)
   {
     Scene::declare_parameters(prm, segment_names, cut_names);
-    Planning::declare_parameters(prm, moved_segments);
+    PlanningList::declare_parameters(prm, moved_segments, plan_names);
     Models::declare_parameters(prm);
     Effects::declare_parameters(prm);
     SkinParameters::declare_parameters(prm);
     OutputParameters::declare_parameters(prm);
+    Serve::Parameters::declare_parameters(prm);
   }
 
   void
@@ -228,7 +253,8 @@ namespace softface
     declare_parameters(prm,
                        Scene::segment_names(first_pass),
                        Planning::moved_segment_names(first_pass),
-                       Scene::cut_names(first_pass));
+                       Scene::cut_names(first_pass),
+                       PlanningList::plan_names(first_pass));
     prm.parse_input(filename);
   }
 
@@ -240,23 +266,20 @@ namespace softface
     prm.print_parameters(out, ParameterHandler::PRM);
   }
 
-  int
-  Simulator::run(const std::string &filename,
-                 std::ostream      &out,
-                 std::ostream      &err)
+  void
+  Simulator::prepare(const std::string &filename, std::ostream &out)
   {
     Timer wall;
 
-    ParameterHandler prm;
+    state                 = std::make_unique<Prepared>();
+    ParameterHandler &prm = state->prm;
     read_parameters(filename, prm);
 
-    OutputParameters output;
+    OutputParameters &output = state->output;
     output.parse_parameters(prm);
-    reference = output.reference_model;
-    std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>>
-      models;
-    std::vector<std::pair<std::string, std::unique_ptr<Effects::Interface>>>
-      effects;
+    reference     = output.reference_model;
+    auto &models  = state->models;
+    auto &effects = state->effects;
     try
       {
         Threads::set_limit(Models::selected_threads(prm));
@@ -288,15 +311,16 @@ namespace softface
     out << "softface: scene " << filename << std::endl;
     const std::string input_directory =
       std::filesystem::path(filename).parent_path().string();
-    the_scene    = std::make_unique<Scene>();
-    Scene &scene = *the_scene;
+    state->input_directory = input_directory;
+    the_scene              = std::make_unique<Scene>();
+    Scene &scene           = *the_scene;
     scene.parse_parameters(prm,
                            input_directory,
                            output.directory + "/patient",
                            &out);
     // Effects that change the mesh (a slit, contact faces) do so before
     // the models see it; the DoFs and join points are then found again.
-    Planning planning;
+    PlanningList &plannings = state->plannings;
     try
       {
         bool mesh_changed = false;
@@ -309,7 +333,7 @@ namespace softface
           }
         if (mesh_changed)
           scene.setup();
-        planning.parse_parameters(prm, scene);
+        plannings.parse_parameters(prm, scene);
         for (const auto &[name, effect] : effects)
           {
             const std::string summary = effect->apply(scene);
@@ -331,7 +355,7 @@ namespace softface
       out << "  segment '" << scene.segments[s].name
           << "': " << scene.n_join_vertices(s) << " join points" << std::endl;
 
-    std::unique_ptr<PointEvaluation> evaluation;
+    auto &evaluation = state->evaluation;
     if (!output.evaluation_points.empty())
       {
         std::filesystem::path points_file(output.evaluation_points);
@@ -354,8 +378,9 @@ namespace softface
 
     // The dense skin (Skin): read and step A of its mappings before any
     // model runs, so that a skin the mesh cannot reach stops the run early.
-    std::unique_ptr<SkinOutput> skin;
-    SkinParameters              skin_parameters;
+    // The skin output keeps a reference to its parameters.
+    auto           &skin            = state->skin;
+    SkinParameters &skin_parameters = state->skin_parameters;
     try
       {
         std::string patient_skin;
@@ -407,7 +432,7 @@ namespace softface
             << output.directory << "/patient.csv" << std::endl;
       }
 
-    const Vector<double> prescribed = planning.prescribed_displacement(scene);
+    auto &prescribed = state->prescribed;
     {
       // A join point moved by many times the mesh's size is a planning in
       // the wrong units (or a typo), not surgery: refused before any model
@@ -421,17 +446,42 @@ namespace softface
             high[d] = std::max(high[d], x[d]);
           }
       const double size = low.distance(high);
-      if (!(prescribed.linfty_norm() <= 10. * size))
+      for (const auto &plan : plannings.plans)
         {
-          std::ostringstream m;
-          m << std::setprecision(3) << filename
-            << ": the planning moves a join point by "
-            << prescribed.linfty_norm() << " mm, more than ten times the "
-            << "mesh's size (" << size << " mm); check Planning's "
-            << "translations and rotation centres (mm).";
-          throw Error(m.str());
+          prescribed.push_back(plan.planning.prescribed_displacement(scene));
+          if (!(prescribed.back().linfty_norm() <= 10. * size))
+            {
+              std::ostringstream m;
+              m << std::setprecision(3) << filename
+                << (plannings.plans.size() > 1 ? ": plan '" + plan.name + "'" :
+                                                 std::string(": the planning"))
+                << " moves a join point by " << prescribed.back().linfty_norm()
+                << " mm, more than ten times the mesh's size (" << size
+                << " mm); check Planning's translations and rotation "
+                << "centres (mm).";
+              throw Error(m.str());
+            }
         }
     }
+    if (plannings.plans.size() > 1)
+      out << "  " << plannings.plans.size()
+          << " plans: every model solves each after one setup" << std::endl;
+  }
+
+  int
+  Simulator::run(const std::string &filename,
+                 std::ostream      &out,
+                 std::ostream      &err)
+  {
+    prepare(filename, out);
+    Scene             &scene      = *the_scene;
+    const auto        &output     = state->output;
+    auto              &models     = state->models;
+    const auto        &plannings  = state->plannings;
+    const auto        &prescribed = state->prescribed;
+    const auto        &skin       = state->skin;
+    const auto        &evaluation = state->evaluation;
+    const unsigned int n_plans    = plannings.plans.size();
 
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says
@@ -444,63 +494,158 @@ namespace softface
         const std::string tag = "  [" + std::to_string(m + 1) + '/' +
                                 std::to_string(models.size()) + "] " + name +
                                 ": ";
-        Report::ModelRun run;
-        run.model = name;
+        const auto record_failure = [&](Report::ModelRun     &run,
+                                        const std::string    &where,
+                                        const std::exception &e) {
+          out << where << "failed" << std::endl;
+          run.failed = true;
+          run.error  = error_message(e);
+          run.displacement.reinit(0);
+          err << "softface: error: " << run.error << std::endl;
+          ++n_failed;
+        };
+        const auto plan_of_run = [&](const unsigned int p) {
+          return n_plans > 1 ? plannings.plans[p].name : std::string();
+        };
+
+        // One setup for every plan; a model linear in the motion may then
+        // build its response basis, and each plan is a combination.
+        Models::ResponseBasis basis;
+        bool                  use_basis  = false;
+        double                basis_time = 0.;
+        Models::Statistics    after_setup;
         try
           {
             model->set_progress_stream(&out);
-            model->set_load_path([planning, &scene](const double load) {
-              return planning.prescribed_displacement(scene, load);
-            });
             model->setup(scene);
-            out << tag << "setup " << model->statistics().setup_time << " s"
+            after_setup = model->statistics();
+            out << tag << "setup " << after_setup.setup_time << " s"
                 << std::endl;
-            model->solve(prescribed, run.displacement);
-            // Overflowing inputs (moduli or loads far out of range) or a
-            // solve that broke down must not pass as an answer.
-            for (const double value : run.displacement)
-              if (!std::isfinite(value))
-                throw Error(name +
-                            ": the displacement is not finite (NaN or "
-                            "infinite): the solve broke down or the inputs "
-                            "(moduli, loads) are far out of range.");
-            run.statistics = model->statistics();
-            run.max_displacement =
-              Displacement::max_norm(scene, run.displacement);
-            out << tag << "solve " << run.statistics.solve_time << " s"
-                << std::endl;
-            if (skin)
-              skin->add_model(name, scene, run.displacement);
-            for (const auto &warning : run.statistics.warnings)
-              err << "softface: warning: " << name << ": " << warning
-                  << std::endl;
-            if (evaluation)
+            const auto moved = plannings.plans[0].planning.moved_segments();
+            const unsigned int n_basis_solves =
+              Models::ResponseBasis::n_solves(scene, moved.size());
+            use_basis = model->linear_in_motion(scene) &&
+                        (plannings.basis == PlanningList::Basis::always ||
+                         (plannings.basis == PlanningList::Basis::automatic &&
+                          n_plans > n_basis_solves));
+            if (use_basis)
               {
-                const auto [field_dofs, field] = model->displacement_field();
-                write_point_values_csv(
-                  evaluation->points(),
-                  field_dofs != nullptr ?
-                    evaluation->evaluate(*field_dofs, *field) :
-                    evaluation->evaluate(scene.dof_handler, run.displacement),
-                  output.directory + "/evaluation_" +
-                    Output::file_name_of(name) + ".csv");
+                Timer timer;
+                model->set_progress_stream(nullptr);
+                basis.build(*model, scene, moved);
+                model->set_progress_stream(&out);
+                basis_time = timer.wall_time();
+                out << tag << "response basis " << basis_time << " s ("
+                    << n_basis_solves << " solves, " << std::setprecision(3)
+                    << basis.memory_mb() << " MB)" << std::endl;
               }
           }
         catch (const std::exception &e)
           {
-            out << tag << "failed" << std::endl;
-            run.failed = true;
-            run.error  = error_message(e);
-            run.displacement.reinit(0);
-            err << "softface: error: " << run.error << std::endl;
-            ++n_failed;
+            // Setup failed: so does every plan.
+            for (unsigned int p = 0; p < n_plans; ++p)
+              {
+                Report::ModelRun run;
+                run.model    = name;
+                run.planning = plan_of_run(p);
+                if (p == 0)
+                  record_failure(run, tag, e);
+                else
+                  {
+                    run.failed = true;
+                    run.error  = error_message(e);
+                    ++n_failed;
+                  }
+                model_runs.push_back(std::move(run));
+              }
+            model.reset();
+            continue;
+          }
+
+        for (unsigned int p = 0; p < n_plans; ++p)
+          {
+            const auto      &plan = plannings.plans[p];
+            Report::ModelRun run;
+            run.model               = name;
+            run.planning            = plan_of_run(p);
+            run.basis_time          = basis_time;
+            const std::string where = n_plans > 1 ?
+                                        tag + "plan " + std::to_string(p + 1) +
+                                          '/' + std::to_string(n_plans) + " '" +
+                                          plan.name + "': " :
+                                        tag;
+            try
+              {
+                if (use_basis)
+                  {
+                    Timer timer;
+                    basis.combine(plan.planning, run.displacement);
+                    run.statistics            = after_setup;
+                    run.statistics.solve_time = timer.wall_time();
+                    run.statistics.residual   = basis.largest_residual;
+                    run.statistics.phases.emplace_back("response basis",
+                                                       basis_time);
+                    run.statistics.phases.emplace_back(
+                      "combination", run.statistics.solve_time);
+                    run.statistics.details.push_back(
+                      {"basis iterations",
+                       double(basis.total_iterations),
+                       "",
+                       ""});
+                    run.statistics.details.push_back(
+                      {"basis memory", basis.memory_mb(), "", "MB"});
+                  }
+                else
+                  {
+                    model->set_load_path([&plan, &scene](const double load) {
+                      return plan.planning.prescribed_displacement(scene, load);
+                    });
+                    model->solve(prescribed[p], run.displacement);
+                    run.statistics = model->statistics();
+                  }
+                // Overflowing inputs (moduli or loads far out of range) or
+                // a solve that broke down must not pass as an answer.
+                for (const double value : run.displacement)
+                  if (!std::isfinite(value))
+                    throw Error(name +
+                                ": the displacement is not finite (NaN or "
+                                "infinite): the solve broke down or the "
+                                "inputs (moduli, loads) are far out of "
+                                "range.");
+                run.max_displacement =
+                  Displacement::max_norm(scene, run.displacement);
+                out << where << (use_basis ? "combination " : "solve ")
+                    << run.statistics.solve_time << " s" << std::endl;
+                if (skin)
+                  skin->add_model(run.label(), scene, run.displacement);
+                for (const auto &warning : run.statistics.warnings)
+                  err << "softface: warning: " << run.label() << ": " << warning
+                      << std::endl;
+                if (evaluation)
+                  {
+                    const auto [field_dofs, field] =
+                      model->displacement_field();
+                    write_point_values_csv(
+                      evaluation->points(),
+                      field_dofs != nullptr && !use_basis ?
+                        evaluation->evaluate(*field_dofs, *field) :
+                        evaluation->evaluate(scene.dof_handler,
+                                             run.displacement),
+                      output.directory + "/evaluation_" +
+                        Output::file_name_of(run.label()) + ".csv");
+                  }
+              }
+            catch (const std::exception &e)
+              {
+                record_failure(run, where, e);
+              }
+            Utilities::System::MemoryStats memory;
+            Utilities::System::get_memory_stats(memory);
+            run.peak_memory_mb = memory.VmHWM / 1024.;
+            model_runs.push_back(std::move(run));
           }
         // The model's memory is freed once it has run; the peak stays.
         model.reset();
-        Utilities::System::MemoryStats memory;
-        Utilities::System::get_memory_stats(memory);
-        run.peak_memory_mb = memory.VmHWM / 1024.;
-        model_runs.push_back(std::move(run));
       }
 
     Report::compare_to(scene, reference, model_runs);
@@ -520,12 +665,11 @@ namespace softface
     if (output.write_nodal_displacements)
       for (const auto &run : model_runs)
         if (!run.failed)
-          Output::write_nodal_displacements(scene,
-                                            run.displacement,
-                                            output.directory +
-                                              "/displacements_" +
-                                              Output::file_name_of(run.model) +
-                                              ".csv");
+          Output::write_nodal_displacements(
+            scene,
+            run.displacement,
+            output.directory + "/displacements_" +
+              Output::file_name_of(run.label()) + ".csv");
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
@@ -544,9 +688,10 @@ namespace softface
         std::string names;
         for (const auto &run : model_runs)
           if (run.failed)
-            names += (names.empty() ? "" : ", ") + run.model;
-        err << "softface: " << n_failed << " model(s) failed: " << names
-            << std::endl;
+            names += (names.empty() ? "" : ", ") + run.label();
+        err << "softface: " << n_failed
+            << (n_plans > 1 ? " run(s) failed: " : " model(s) failed: ")
+            << names << std::endl;
         return 1;
       }
     return 0;
@@ -698,6 +843,34 @@ namespace softface
   {
     Assert(the_scene, ExcMessage("Simulator::run() first."));
     return *the_scene;
+  }
+
+  ParameterHandler &
+  Simulator::parameters()
+  {
+    Assert(state, ExcMessage("Simulator::prepare() first."));
+    return state->prm;
+  }
+
+  const PlanningList &
+  Simulator::plannings() const
+  {
+    Assert(state, ExcMessage("Simulator::prepare() first."));
+    return state->plannings;
+  }
+
+  std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>> &
+  Simulator::models()
+  {
+    Assert(state, ExcMessage("Simulator::prepare() first."));
+    return state->models;
+  }
+
+  SkinOutput *
+  Simulator::skin() const
+  {
+    Assert(state, ExcMessage("Simulator::prepare() first."));
+    return state->skin.get();
   }
 
   const std::vector<Report::ModelRun> &

@@ -257,6 +257,21 @@ namespace softface
   }
 
   void
+  SkinOutput::map(const Scene               &scene,
+                  const Vector<double>      &displacement,
+                  std::vector<Tensor<1, 3>> &skin_displacement,
+                  const unsigned int         mapping) const
+  {
+    // Step B: the vertex displacements gathered, then the weighted sums.
+    std::vector<Tensor<1, 3>> vertex_u(scene.vertex_dofs().size());
+    for (unsigned int v = 0; v < vertex_u.size(); ++v)
+      if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
+        for (unsigned int c = 0; c < 3; ++c)
+          vertex_u[v][c] = displacement[scene.vertex_dofs()[v][c]];
+    mappings[mapping].map(vertex_u, skin_displacement);
+  }
+
+  void
   SkinOutput::add_model(const std::string    &model,
                         const Scene          &scene,
                         const Vector<double> &displacement)
@@ -267,14 +282,8 @@ namespace softface
         Row row;
         row.model  = model;
         row.method = parameters.methods[k];
-        // Step B: the vertex displacements gathered, then the weighted sums.
-        Timer                     timer;
-        std::vector<Tensor<1, 3>> vertex_u(scene.vertex_dofs().size());
-        for (unsigned int v = 0; v < vertex_u.size(); ++v)
-          if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
-            for (unsigned int c = 0; c < 3; ++c)
-              vertex_u[v][c] = displacement[scene.vertex_dofs()[v][c]];
-        mappings[k].map(vertex_u, skin_u);
+        Timer timer;
+        map(scene, displacement, skin_u, k);
         row.step_b_seconds = timer.wall_time();
 
         SurfaceMapping::Surface predicted = skin;
@@ -409,10 +418,11 @@ namespace softface
         while (parameters.methods[k] != row.method)
           ++k;
         const auto &m = mappings[k];
-        csv << row.model << ',' << SurfaceMapping::name_of(row.method) << ','
-            << m.n_points() << ',' << m.n_points() - m.n_outside << ','
-            << m.n_without_neighbours << ',' << step_a_seconds[k] << ','
-            << row.step_b_seconds << ',' << row.max_displacement;
+        csv << csv_field(row.model) << ','
+            << SurfaceMapping::name_of(row.method) << ',' << m.n_points() << ','
+            << m.n_points() - m.n_outside << ',' << m.n_without_neighbours
+            << ',' << step_a_seconds[k] << ',' << row.step_b_seconds << ','
+            << row.max_displacement;
         if (row.measured)
           csv << ',' << row.distances.n << ',' << row.distances.mean << ','
               << row.distances.mean_absolute << ',' << row.distances.variance

@@ -16,6 +16,11 @@ namespace softface
    */
   void
   create_output_directory(const std::string &directory);
+
+  /// @p text as a CSV field: quoted if it holds a comma, quote or line
+  /// break (a run's label "model, plan" does).
+  std::string
+  csv_field(const std::string &text);
 } // namespace softface
 
 #endif

@@ -91,6 +91,15 @@ namespace softface
       virtual unsigned int
       honoured_effects() const;
 
+      /**
+       * True if the model's answer on @p scene is affine in the prescribed
+       * displacement (the answer to a sum of two is the sum of the answers,
+       * less the answer to none), so that a ResponseBasis can stand in for
+       * its solves. False by default.
+       */
+      virtual bool
+      linear_in_motion(const Scene &scene) const;
+
       void
       setup(const Scene &scene);
 
@@ -189,6 +198,11 @@ namespace softface
       std::vector<std::string>                    setup_warnings;
       Statistics                                  stats;
     };
+
+    /// True if a vertex of @p scene may lift off a surface (unilateral
+    /// contact): no model's answer is then linear in the motion.
+    bool
+    has_unilateral_contact(const Scene &scene);
 
     /// Names of all registered models, in alphabetical order.
     std::vector<std::string>

@@ -55,6 +55,9 @@ namespace softface
       /// Tissues per cell and body forces.
       unsigned int
       honoured_effects() const override;
+      /// True without unilateral contact (the active set is not linear).
+      bool
+      linear_in_motion(const Scene &scene) const override;
 
       /// Set the solution scheme in code (tests, benchmarks).
       void

@@ -17,7 +17,8 @@ namespace softface
    */
   namespace Output
   {
-    /// "mass tensor" -> "mass_tensor"
+    /// "mass tensor" -> "mass_tensor", "linear fem, bone rotation angle 5"
+    /// -> "linear_fem_bone_rotation_angle_5"
     std::string
     file_name_of(const std::string &model);
 

@@ -26,7 +26,18 @@ namespace softface
     /// One model's run of a scene.
     struct ModelRun
     {
-      std::string        model;
+      std::string model;
+      /// The plan's name when the scene runs several (PlanningList), else
+      /// empty.
+      std::string planning;
+      /// s, the model's response basis (0: none), on top of its setup
+      double basis_time = 0.;
+      /// "model" or "model, plan": names the run in tables and file names.
+      std::string
+      label() const
+      {
+        return planning.empty() ? model : model + ", " + planning;
+      }
       bool               failed = false;
       std::string        error; ///< why it failed
       Models::Statistics statistics;
@@ -39,16 +50,17 @@ namespace softface
     };
 
     /// Fill every successful run's difference to the run of
-    /// @p reference_model, if it ran successfully.
+    /// @p reference_model with the same plan, if it ran successfully.
     void
     compare_to(const Scene           &scene,
                const std::string     &reference_model,
                std::vector<ModelRun> &runs);
 
     /**
-     * The table of the successful runs: model, tets, vertices, free DoFs,
-     * (setup s, solve s,) iterations, max |u| and, when compared, the
-     * largest and mean difference to the reference model; @p with_extras
+     * The table of the successful runs: model, (plan, when there are
+     * several,) tets, vertices, free DoFs, (setup s, basis s when a model
+     * built a response basis, solve s,) iterations, max |u| and, when compared,
+     * the largest and mean difference to the reference model; @p with_extras
      * adds the model's DoFs, its relative residual and the peak memory.
      */
     TableHandler
@@ -75,7 +87,8 @@ namespace softface
      * solve_s, iterations, relative_residual, max_displacement_mm,
      * reference_model, max_diff_to_reference_mm, mean_diff_to_reference_mm,
      * peak_memory_mb, phases and details ("name=value" joined by ';'),
-     * warnings and error.
+     * warnings, error, plan (empty for a scene's one planning) and
+     * basis_s (the response basis, 0 without).
      */
     void
     write_summary_csv(const Scene                 &scene,

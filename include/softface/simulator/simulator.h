@@ -3,16 +3,21 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <softface/core/planning_list.h>
 #include <softface/core/scene.h>
+#include <softface/models/interface.h>
 #include <softface/simulator/report.h>
 
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softface
 {
+  class SkinOutput;
+
   namespace Patient
   {
     struct PatientParameters;
@@ -22,14 +27,18 @@ namespace softface
   using namespace dealii;
 
   /**
-   * Runs one scene file: parse it, build the scene, turn the planning into
-   * join-point displacements, run every selected model on them, report them
-   * side by side and write the outputs. A model that fails is reported with
-   * its reason and the others still run.
+   * Runs one scene file: parse it, build the scene, turn each of its plans
+   * into join-point displacements, run every selected model on them (one
+   * setup, then a solve or a response-basis combination per plan), report
+   * them side by side and write the outputs. A model that fails is
+   * reported with its reason and the others still run.
    */
   class Simulator
   {
   public:
+    Simulator();
+    ~Simulator();
+
     /**
      * Declare every parameter. The Segment and Motion subsections depend on
      * the names a file lists, so a file is read twice: once tolerantly for
@@ -39,7 +48,8 @@ namespace softface
     declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &segment_names,
                        const std::vector<std::string> &moved_segments,
-                       const std::vector<std::string> &cut_names = {});
+                       const std::vector<std::string> &cut_names  = {},
+                       const std::vector<std::string> &plan_names = {});
 
     /// Fill @p prm from @p filename (both passes).
     static void
@@ -58,6 +68,27 @@ namespace softface
     run(const std::string &filename,
         std::ostream      &out = std::cout,
         std::ostream      &err = std::cerr);
+
+    /**
+     * What run() does before the models solve: read the parameters, build
+     * the scene with its effects, the plans and their join displacements,
+     * create the models (not set up), read the skin and run step A of its
+     * mappings, and create the output folder; progress on @p out. Errors in
+     * the input are thrown as Error. (softface serve starts here.)
+     */
+    void
+    prepare(const std::string &filename, std::ostream &out = std::cout);
+
+    /// After prepare(): the parameters read, the plans, the models (created,
+    /// not set up) and the skin (nullptr without one).
+    ParameterHandler &
+    parameters();
+    const PlanningList &
+    plannings() const;
+    std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>> &
+    models();
+    SkinOutput *
+    skin() const;
 
     /**
      * Run the patient stages of the scene in @p filename up to @p stage
@@ -97,6 +128,8 @@ namespace softface
     reference_model() const;
 
   private:
+    struct Prepared;
+    std::unique_ptr<Prepared>     state;
     std::unique_ptr<Scene>        the_scene;
     std::vector<Report::ModelRun> model_runs;
     std::string                   reference;

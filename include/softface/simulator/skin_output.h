@@ -74,6 +74,27 @@ namespace softface
     void
     write(std::ostream &out) const;
 
+    /// The dense skin at rest, and the post-operative skin (empty without
+    /// one).
+    const SurfaceMapping::Surface &
+    skin_surface() const
+    {
+      return skin;
+    }
+    const SurfaceMapping::Surface &
+    post_operative_surface() const
+    {
+      return post_operative;
+    }
+
+    /// Step B of the first mapping: @p displacement (on the scene's layout)
+    /// at every skin point.
+    void
+    map(const Scene               &scene,
+        const Vector<double>      &displacement,
+        std::vector<Tensor<1, 3>> &skin_displacement,
+        const unsigned int         mapping = 0) const;
+
   private:
     struct Row
     {

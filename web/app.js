@@ -1,0 +1,203 @@
+// softface serve's page: the surface at rest from /surface.bin, sliders per
+// moved segment, each change sent over a WebSocket; the binary answer is the
+// surface's displacement, drawn with three.js and coloured by |u|.
+// window.softface exposes the state to the headless-browser test.
+import * as THREE from "three";
+import { OrbitControls } from "three/addons/controls/OrbitControls.js";
+
+const state = { ready: false, replans: 0, latencies: [], lastMax: 0, errors: [], pending: null,
+                inFlight: null, nextId: 1 };
+window.softface = state;
+
+function readSurface(buffer) {
+  const head = new Uint32Array(buffer, 0, 2);
+  const n = head[0], m = head[1];
+  const positions = new Float32Array(buffer, 8, 3 * n);
+  const index = new Uint32Array(buffer, 8 + 12 * n, 3 * m);
+  return { positions: positions.slice(), index: index.slice() };
+}
+
+function colourMap(t) {
+  // Blue (0) through white to red (1): a diverging map read as "how far".
+  t = Math.min(1, Math.max(0, t));
+  return t < 0.5 ? [2 * t, 2 * t, 1] : [1, 2 - 2 * t, 2 - 2 * t];
+}
+
+const scene = await (await fetch("/scene.json")).json();
+const rest = readSurface(await (await fetch("/surface.bin")).arrayBuffer());
+const post = scene.post_operative ? readSurface(await (await fetch("/postop.bin")).arrayBuffer()) : null;
+document.getElementById("surface-kind").textContent =
+  `${scene.surface}: ${scene.points} points, ${scene.triangles} triangles`;
+if (!post) document.getElementById("post-choice").style.display = "none";
+
+const view = document.getElementById("view");
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.setSize(view.clientWidth, view.clientHeight);
+view.prepend(renderer.domElement);
+const world = new THREE.Scene();
+world.background = new THREE.Color(0xffffff);
+world.add(new THREE.HemisphereLight(0xffffff, 0x666666, 1.6));
+const light = new THREE.DirectionalLight(0xffffff, 1.5);
+world.add(light);
+
+function meshOf(surface) {
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute("position", new THREE.BufferAttribute(surface.positions.slice(), 3));
+  geometry.setIndex(new THREE.BufferAttribute(surface.index, 1));
+  const colours = new Float32Array(surface.positions.length).fill(0.85);
+  geometry.setAttribute("color", new THREE.BufferAttribute(colours, 3));
+  geometry.computeVertexNormals();
+  const material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
+  return new THREE.Mesh(geometry, material);
+}
+const face = meshOf(rest);
+world.add(face);
+const postMesh = post ? meshOf(post) : null;
+if (postMesh) { postMesh.visible = false; world.add(postMesh); }
+
+face.geometry.computeBoundingSphere();
+const sphere = face.geometry.boundingSphere;
+const camera = new THREE.PerspectiveCamera(35, view.clientWidth / view.clientHeight,
+                                           sphere.radius / 100, sphere.radius * 20);
+// The face looks along -y in the patients' frame: the camera in front (-y), z up.
+camera.up.set(0, 0, 1);
+// Far enough that the whole surface fits the 35 degree field of view.
+const distance = 1.15 * sphere.radius / Math.tan((35 / 2) * Math.PI / 180);
+camera.position.copy(sphere.center).add(new THREE.Vector3(0, -distance, 0.1 * distance));
+const controls = new OrbitControls(camera, renderer.domElement);
+controls.target.copy(sphere.center);
+controls.update();
+controls.addEventListener("change", () => requestAnimationFrame(draw));
+window.addEventListener("resize", () => {
+  renderer.setSize(view.clientWidth, view.clientHeight);
+  camera.aspect = view.clientWidth / view.clientHeight;
+  camera.updateProjectionMatrix();
+  requestAnimationFrame(draw);
+});
+function draw() {
+  light.position.copy(camera.position);
+  renderer.render(world, camera);
+}
+
+// The model choice and one set of sliders per moved segment.
+const modelSelect = document.getElementById("model");
+for (const m of scene.models) modelSelect.add(new Option(m, m));
+const motions = {};
+const sliderNames = ["tx", "ty", "tz", "rx", "ry", "rz"];
+const segmentsDiv = document.getElementById("segments");
+for (const segment of scene.segments) {
+  motions[segment.name] = [0, 0, 0, 0, 0, 0];
+  const fieldset = document.createElement("fieldset");
+  fieldset.innerHTML = `<legend>${segment.name}</legend>`;
+  sliderNames.forEach((name, k) => {
+    const limit = k < 3 ? scene.limits.translation : scene.limits.rotation;
+    const label = document.createElement("label");
+    label.className = "slider";
+    label.innerHTML = `<span>${name}</span><input type="range" min="${-limit}" max="${limit}" ` +
+      `step="${k < 3 ? 0.1 : 0.5}" value="0" data-segment="${segment.name}" data-k="${k}">` +
+      `<output>0</output>`;
+    const input = label.querySelector("input");
+    input.addEventListener("input", () => {
+      motions[segment.name][k] = Number(input.value);
+      label.querySelector("output").textContent = input.value + (k < 3 ? " mm" : "°");
+      request();
+    });
+    fieldset.appendChild(label);
+  });
+  segmentsDiv.appendChild(fieldset);
+}
+modelSelect.addEventListener("change", request);
+document.getElementById("reset").addEventListener("click", () => {
+  for (const input of segmentsDiv.querySelectorAll("input")) {
+    input.value = 0;
+    input.dispatchEvent(new Event("input"));
+  }
+});
+for (const radio of document.querySelectorAll("input[name=show]"))
+  radio.addEventListener("change", showChoice);
+
+// Re-plans: one in flight at a time; a slider moved meanwhile sends its
+// latest value when the answer is in (the page never queues stale plans).
+const socket = new WebSocket(`ws://${location.host}/replan`);
+socket.binaryType = "arraybuffer";
+let displacement = new Float32Array(3 * scene.points);
+function request() {
+  state.pending = { id: state.nextId++, model: modelSelect.value,
+                    motions: structuredClone(motions), sent: 0 };
+  if (!state.inFlight && socket.readyState === WebSocket.OPEN) send();
+}
+function send() {
+  const plan = state.pending;
+  state.pending = null;
+  plan.sent = performance.now();
+  state.inFlight = plan;
+  socket.send(JSON.stringify({ id: plan.id, model: plan.model, motions: plan.motions }));
+}
+socket.onopen = () => { state.ready = true; request(); };
+socket.onmessage = (event) => {
+  const plan = state.inFlight;
+  state.inFlight = null;
+  if (typeof event.data === "string") {
+    const answer = JSON.parse(event.data);
+    state.errors.push(answer.error);
+    document.getElementById("error").textContent = "server: " + answer.error;
+  } else {
+    const head = new DataView(event.data, 0, 16);
+    const combination = head.getFloat32(4, true), mapping = head.getFloat32(8, true);
+    displacement = new Float32Array(event.data, 16, 3 * head.getUint32(12, true));
+    document.getElementById("error").textContent = "";
+    showChoice();
+    // The latency ends when the frame with the new face has been drawn.
+    requestAnimationFrame(() => {
+      const latency = performance.now() - plan.sent;
+      state.latencies.push(latency);
+      state.replans += 1;
+      state.lastId = plan.id;
+      document.getElementById("status").textContent =
+        `re-plan ${plan.id}: server ${combination.toFixed(2)} ms (combination) + ` +
+        `${mapping.toFixed(2)} ms (mapping)\nslider to face ${latency.toFixed(1)} ms\n` +
+        `largest |u| ${state.lastMax.toFixed(2)} mm`;
+    });
+  }
+  if (state.pending) send();
+};
+socket.onclose = () => { document.getElementById("error").textContent = "connection closed"; };
+
+function showChoice() {
+  const show = document.querySelector("input[name=show]:checked").value;
+  state.showing = show;
+  face.visible = show !== "post";
+  if (postMesh) postMesh.visible = show === "post";
+  const position = face.geometry.attributes.position.array;
+  const colour = face.geometry.attributes.color.array;
+  let largest = 0;
+  for (let i = 0; i < displacement.length; i += 3) {
+    const u = Math.hypot(displacement[i], displacement[i + 1], displacement[i + 2]);
+    largest = Math.max(largest, u);
+  }
+  state.lastMax = largest;
+  const scale = Math.max(largest, 1e-9);
+  for (let i = 0; i < displacement.length; i += 3) {
+    const moved = show === "predicted";
+    position[i] = rest.positions[i] + (moved ? displacement[i] : 0);
+    position[i + 1] = rest.positions[i + 1] + (moved ? displacement[i + 1] : 0);
+    position[i + 2] = rest.positions[i + 2] + (moved ? displacement[i + 2] : 0);
+    const u = Math.hypot(displacement[i], displacement[i + 1], displacement[i + 2]);
+    const [r, g, b] = moved ? colourMap(u / scale) : [0.85, 0.85, 0.85];
+    colour[i] = r; colour[i + 1] = g; colour[i + 2] = b;
+  }
+  face.geometry.attributes.position.needsUpdate = true;
+  face.geometry.attributes.color.needsUpdate = true;
+  document.getElementById("legend-high").textContent = largest.toFixed(2);
+  draw();
+}
+
+// The legend's colour bar.
+const bar = document.querySelector("#legend canvas").getContext("2d");
+for (let x = 0; x < 200; ++x) {
+  const [r, g, b] = colourMap(x / 199);
+  bar.fillStyle = `rgb(${255 * r},${255 * g},${255 * b})`;
+  bar.fillRect(x, 0, 1, 12);
+}
+draw();
