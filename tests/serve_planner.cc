@@ -48,10 +48,17 @@ namespace
     return skin_u;
   }
 
+  // @p a on the planner's moving points (zero elsewhere) against @p b on
+  // every skin point.
   double
-  relative_difference(const std::vector<float>        &a,
+  relative_difference(const std::vector<unsigned int> &moving,
+                      const std::vector<float>        &a_moving,
                       const std::vector<Tensor<1, 3>> &b)
   {
+    std::vector<double> a(3 * b.size(), 0.);
+    for (unsigned int k = 0; k < moving.size(); ++k)
+      for (unsigned int c = 0; c < 3; ++c)
+        a[3 * moving[k] + c] = a_moving[3 * k + c];
     double difference = 0., largest = 0.;
     for (unsigned int i = 0; i < b.size(); ++i)
       for (unsigned int c = 0; c < 3; ++c)
@@ -96,7 +103,8 @@ SOFTFACE_TEST(serve_planner)
       softface_tests::check_below(
         std::string("rotation about ") + "xyz"[a] +
           ", linear fem: |re-plan - run| / |run|",
-        relative_difference(planner.replan("linear fem", {motion}).displacement,
+        relative_difference(planner.moving_points(),
+                            planner.replan("linear fem", {motion}).displacement,
                             expected),
         1e-6);
     }
@@ -125,7 +133,8 @@ SOFTFACE_TEST(serve_planner)
              << ", " << centre[2] << "\n  end\nend\n";
     softface_tests::check_below(
       "rotation about x then y, linear fem: |re-plan - run| / |run|",
-      relative_difference(planner.replan("linear fem", {motion}).displacement,
+      relative_difference(planner.moving_points(),
+                          planner.replan("linear fem", {motion}).displacement,
                           simulated_skin(planning.str())),
       1e-6);
   }
@@ -153,13 +162,42 @@ SOFTFACE_TEST(serve_planner)
     R"({"id": 7, "model": "mass tensor", "motions": {"bone": [0, 0, 6, 0, 0, 0]}})");
   std::uint32_t id, n;
   std::memcpy(&id, answer.data.data(), 4);
-  std::memcpy(&n, answer.data.data() + 12, 4);
+  std::memcpy(&n, answer.data.data() + 16, 4);
   softface_tests::check_equal("answer is binary", answer.binary, true);
   softface_tests::check_equal("answer id", id, 7);
-  softface_tests::check_equal("answer points", n, 2562);
-  softface_tests::check_equal("answer bytes",
-                              answer.data.size(),
-                              16 + 12 * 2562);
+  softface_tests::check_equal("answer points (the moving ones)",
+                              n,
+                              planner.moving_points().size());
+  softface_tests::check_equal("answer bytes", answer.data.size(), 24 + 12 * n);
+
+  // The post-operative skin was made by linear FEM with the bone lifted
+  // 6 mm and turned 5 degrees about z (serve_cube_post.prm): the same plan
+  // here predicts it, so every distance to it vanishes; at rest they do not.
+  {
+    const auto result =
+      planner.replan("linear fem", {{{0., 0., 6., 0., 0., 5.}}}, true);
+    double largest = 0.;
+    for (const float d : result.distance)
+      largest = std::max(largest, std::abs(double(d)));
+    softface_tests::check_equal("distances of the moving points",
+                                result.distance.size(),
+                                planner.moving_points().size());
+    softface_tests::check_below("the post-operative plan: largest |distance| "
+                                "(mm)",
+                                largest,
+                                1e-4);
+    double at_rest = 0.;
+    for (const float d : planner.rest_distances())
+      at_rest = std::max(at_rest, std::abs(double(d)));
+    softface_tests::check_above("at rest: largest |distance| (mm)",
+                                at_rest,
+                                1.);
+    const auto with_distances = handler.message(
+      R"({"id": 8, "motions": {"bone": [0, 0, 6, 0, 0, 5]}, "distance": true})");
+    softface_tests::check_equal("answer bytes with distances",
+                                with_distances.data.size(),
+                                24 + 16 * n);
+  }
   softface_tests::check_equal("GET /scene.json",
                               handler.get("/scene.json").status,
                               200);

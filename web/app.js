@@ -26,12 +26,20 @@ function colourMap(t) {
 const scene = await (await fetch("/scene.json")).json();
 const rest = readSurface(await (await fetch("/surface.bin")).arrayBuffer());
 const post = scene.post_operative ? readSurface(await (await fetch("/postop.bin")).arrayBuffer()) : null;
+// The points a plan can move: each answer holds their displacements only.
+const movingBytes = await (await fetch("/moving.bin")).arrayBuffer();
+const moving = new Uint32Array(movingBytes, 4, new Uint32Array(movingBytes, 0, 1)[0]);
+const restDistance = post ? new Float32Array(await (await fetch("/rest_distance.bin")).arrayBuffer()) : null;
 document.getElementById("surface-kind").textContent =
   `${scene.surface}: ${scene.points} points, ${scene.triangles} triangles`;
-if (!post) document.getElementById("post-choice").style.display = "none";
+if (!post) {
+  document.getElementById("post-choice").style.display = "none";
+  document.getElementById("distance-choice").style.display = "none";
+}
 
 const view = document.getElementById("view");
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+// No multisampling: in software WebGL it costs more than the face's update.
+const renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
 renderer.setPixelRatio(window.devicePixelRatio);
 renderer.setSize(view.clientWidth, view.clientHeight);
 view.prepend(renderer.domElement);
@@ -63,8 +71,8 @@ const camera = new THREE.PerspectiveCamera(35, view.clientWidth / view.clientHei
 // The face looks along -y in the patients' frame: the camera in front (-y), z up.
 camera.up.set(0, 0, 1);
 // Far enough that the whole surface fits the 35 degree field of view.
-const distance = 1.15 * sphere.radius / Math.tan((35 / 2) * Math.PI / 180);
-camera.position.copy(sphere.center).add(new THREE.Vector3(0, -distance, 0.1 * distance));
+const cameraDistance = 1.15 * sphere.radius / Math.tan((35 / 2) * Math.PI / 180);
+camera.position.copy(sphere.center).add(new THREE.Vector3(0, -cameraDistance, 0.1 * cameraDistance));
 const controls = new OrbitControls(camera, renderer.domElement);
 controls.target.copy(sphere.center);
 controls.update();
@@ -76,8 +84,10 @@ window.addEventListener("resize", () => {
   requestAnimationFrame(draw);
 });
 function draw() {
+  const start = performance.now();
   light.position.copy(camera.position);
   renderer.render(world, camera);
+  state.drawMs = performance.now() - start;
 }
 
 // The model choice and one set of sliders per moved segment.
@@ -116,15 +126,22 @@ document.getElementById("reset").addEventListener("click", () => {
 });
 for (const radio of document.querySelectorAll("input[name=show]"))
   radio.addEventListener("change", showChoice);
+// Distances are computed by the server on request: a change asks again.
+for (const radio of document.querySelectorAll("input[name=colour]"))
+  radio.addEventListener("change", request);
+function colourChoice() {
+  return document.querySelector("input[name=colour]:checked").value;
+}
 
 // Re-plans: one in flight at a time; a slider moved meanwhile sends its
 // latest value when the answer is in (the page never queues stale plans).
 const socket = new WebSocket(`ws://${location.host}/replan`);
 socket.binaryType = "arraybuffer";
-let displacement = new Float32Array(3 * scene.points);
+let displacement = new Float32Array(3 * moving.length);
+let distance = null; // of the moving points, when asked for
 function request() {
   state.pending = { id: state.nextId++, model: modelSelect.value,
-                    motions: structuredClone(motions), sent: 0 };
+                    motions: structuredClone(motions), sent: 0, distance: colourChoice() === "distance" };
   if (!state.inFlight && socket.readyState === WebSocket.OPEN) send();
 }
 function send() {
@@ -132,7 +149,8 @@ function send() {
   state.pending = null;
   plan.sent = performance.now();
   state.inFlight = plan;
-  socket.send(JSON.stringify({ id: plan.id, model: plan.model, motions: plan.motions }));
+  socket.send(JSON.stringify({ id: plan.id, model: plan.model, motions: plan.motions,
+                               distance: plan.distance }));
 }
 socket.onopen = () => { state.ready = true; request(); };
 socket.onmessage = (event) => {
@@ -143,9 +161,12 @@ socket.onmessage = (event) => {
     state.errors.push(answer.error);
     document.getElementById("error").textContent = "server: " + answer.error;
   } else {
-    const head = new DataView(event.data, 0, 16);
+    state.answerMs = performance.now() - plan.sent;
+    const head = new DataView(event.data, 0, 24);
     const combination = head.getFloat32(4, true), mapping = head.getFloat32(8, true);
-    displacement = new Float32Array(event.data, 16, 3 * head.getUint32(12, true));
+    const distanceMs = head.getFloat32(12, true), count = head.getUint32(16, true);
+    displacement = new Float32Array(event.data, 24, 3 * count);
+    distance = head.getUint32(20, true) & 1 ? new Float32Array(event.data, 24 + 12 * count, count) : null;
     document.getElementById("error").textContent = "";
     showChoice();
     // The latency ends when the frame with the new face has been drawn.
@@ -156,7 +177,9 @@ socket.onmessage = (event) => {
       state.lastId = plan.id;
       document.getElementById("status").textContent =
         `re-plan ${plan.id}: server ${combination.toFixed(2)} ms (combination) + ` +
-        `${mapping.toFixed(2)} ms (mapping)\nslider to face ${latency.toFixed(1)} ms\n` +
+        `${mapping.toFixed(2)} ms (mapping)` +
+        (distance ? ` + ${distanceMs.toFixed(1)} ms (distances)` : "") +
+        `\nslider to face ${latency.toFixed(1)} ms\n` +
         `largest |u| ${state.lastMax.toFixed(2)} mm`;
     });
   }
@@ -169,6 +192,7 @@ function showChoice() {
   state.showing = show;
   face.visible = show !== "post";
   if (postMesh) postMesh.visible = show === "post";
+  const updateStart = performance.now();
   const position = face.geometry.attributes.position.array;
   const colour = face.geometry.attributes.color.array;
   let largest = 0;
@@ -178,18 +202,39 @@ function showChoice() {
   }
   state.lastMax = largest;
   const scale = Math.max(largest, 1e-9);
-  for (let i = 0; i < displacement.length; i += 3) {
-    const moved = show === "predicted";
-    position[i] = rest.positions[i] + (moved ? displacement[i] : 0);
-    position[i + 1] = rest.positions[i + 1] + (moved ? displacement[i + 1] : 0);
-    position[i + 2] = rest.positions[i + 2] + (moved ? displacement[i + 2] : 0);
-    const u = Math.hypot(displacement[i], displacement[i + 1], displacement[i + 2]);
-    const [r, g, b] = moved ? colourMap(u / scale) : [0.85, 0.85, 0.85];
+  const moved = show === "predicted";
+  // Signed distances on a fixed -3..3 mm scale (the seed's Fig. 10).
+  const byDistance = moved && distance !== null && restDistance !== null;
+  const distanceColour = (d) => colourMap((d + 3) / 6);
+  // Points that never move: no motion, or their distance at rest; grey in
+  // the other views.
+  const fill = `${show} ${byDistance}`;
+  if (state.colouredFor !== fill) {
+    for (let p = 0, i = 0; i < colour.length; ++p, i += 3) {
+      const [r, g, b] = !moved ? [0.85, 0.85, 0.85]
+                              : byDistance ? distanceColour(restDistance[p]) : colourMap(0);
+      colour[i] = r; colour[i + 1] = g; colour[i + 2] = b;
+    }
+    state.colouredFor = fill;
+  }
+  for (let k = 0, j = 0; k < moving.length; ++k, j += 3) {
+    const i = 3 * moving[k];
+    const dx = displacement[j], dy = displacement[j + 1], dz = displacement[j + 2];
+    position[i] = rest.positions[i] + (moved ? dx : 0);
+    position[i + 1] = rest.positions[i + 1] + (moved ? dy : 0);
+    position[i + 2] = rest.positions[i + 2] + (moved ? dz : 0);
+    const [r, g, b] = !moved ? [0.85, 0.85, 0.85]
+                      : byDistance ? distanceColour(distance[k])
+                                   : colourMap(Math.sqrt(dx * dx + dy * dy + dz * dz) / scale);
     colour[i] = r; colour[i + 1] = g; colour[i + 2] = b;
   }
+  state.updateMs = performance.now() - updateStart;
   face.geometry.attributes.position.needsUpdate = true;
   face.geometry.attributes.color.needsUpdate = true;
-  document.getElementById("legend-high").textContent = largest.toFixed(2);
+  state.colouredBy = byDistance ? "distance" : "magnitude";
+  document.getElementById("legend-low").textContent = byDistance ? "-3" : "0";
+  document.getElementById("legend-high").textContent = byDistance ? "3" : largest.toFixed(2);
+  document.getElementById("legend-title").textContent = byDistance ? "distance mm" : "|u| mm";
   draw();
 }
 

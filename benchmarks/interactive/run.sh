@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
 # Re-planning (issue 17): a phantom patient's scene (prm/patients/P1.prm, ~119k tetrahedra, its
 # dense skin) swept over PLANS plans of the mandible's set-back, linear fem (cg amg) and mass
-# tensor, once solving every plan and once from the response basis, in one run; writes
-# doc/results/interactive.{md,csv,png}.
+# tensor, once solving every plan and once from the response basis; then `softface serve` on the
+# same scene with its page in headless Chromium (slider-to-face latency, a screenshot); writes
+# doc/results/interactive.{md,csv,png} and interactive_page.png.
 #
 #   benchmarks/interactive/run.sh [--quick]   (--quick: prm/patient.prm, 8 plans; results in the
 #                                              work dir)
 #
 # Env: SOFTFACE (default build/softface), INTERACTIVE_WORK (default /tmp/softface-interactive).
 # The first run makes the patient's mesh (about 90 s); later runs reuse it. Needs Debian's
-# /usr/bin/python3 with python3-matplotlib.
+# /usr/bin/python3 with python3-matplotlib, chromium and web/node_modules (./test.sh installs both).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)

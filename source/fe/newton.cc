@@ -141,6 +141,12 @@ namespace softface
     path = p;
   }
 
+  void
+  LoadSteppedNewton::set_initial_guess(const Vector<double> *guess)
+  {
+    initial_guess = guess;
+  }
+
   const Vector<double> *
   LoadSteppedNewton::bone_now() const
   {
@@ -619,7 +625,16 @@ namespace softface
         else
           target.equ(next, join_motion);
         const Vector<double> *start = nullptr;
-        if (prm.predictor == Parameters::Predictor::join_only)
+        // A first step to the full load starts from the guess, if any.
+        const bool from_guess = initial_guess != nullptr &&
+                                initial_guess->size() == n && load == 0. &&
+                                next == 1. && report.cutbacks == 0;
+        if (from_guess)
+          {
+            guess = *initial_guess;
+            start = &guess;
+          }
+        else if (prm.predictor == Parameters::Predictor::join_only)
           {
             guess = u;
             start = &guess;
@@ -665,6 +680,7 @@ namespace softface
           }
         if (result.converged)
           {
+            report.started_from_guess |= from_guess;
             if (prm.predictor == Parameters::Predictor::secant)
               {
                 previous      = converged;

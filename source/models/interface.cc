@@ -180,6 +180,12 @@ namespace softface
       load_path = path;
     }
 
+    void
+    Interface::set_initial_guess(const Vector<double> *guess)
+    {
+      initial_guess = guess;
+    }
+
     TimerOutput::Scope
     Interface::phase(const std::string &name, const bool diagnostic)
     {

@@ -42,6 +42,14 @@ namespace softface
                         "springs may flip over where the equilibrium of the "
                         "springs asks for it; the inverted tetrahedra are "
                         "counted and reported with a warning.");
+      prm.declare_entry("Warm start",
+                        "true",
+                        Patterns::Bool(),
+                        "A solve after the first of a setup (the next plan of "
+                        "a scene with several) starts from the previous "
+                        "answer, its join points carried in load steps from "
+                        "the previous plan's positions to this one's. false: "
+                        "every solve starts at rest.");
       prm.declare_entry("Maximum sweeps",
                         "200000",
                         Patterns::Integer(1),
@@ -56,6 +64,7 @@ namespace softface
       max_step_fraction = prm.get_double("Maximum step fraction");
       max_sweeps        = prm.get_integer("Maximum sweeps");
       prevent_inversion = prm.get_bool("Prevent inversion");
+      warm_start        = prm.get_bool("Warm start");
       // Zero would ask for infinitely many load steps.
       if (!(max_step_fraction > 0.))
         throw Error("mass spring: 'Maximum step fraction' must be positive "
@@ -85,7 +94,8 @@ namespace softface
     void
     MassSpring::do_setup(const Scene &scene_in)
     {
-      scene                = &scene_in;
+      scene = &scene_in;
+      last_position.clear();
       const auto timed     = phase("springs");
       mesh                 = std::make_unique<PointMesh>(*scene, "mass spring");
       const unsigned int n = mesh->n_points();
@@ -163,7 +173,15 @@ namespace softface
       const auto        &rest_position = mesh->position;
       const unsigned int n             = rest_position.size();
 
-      std::vector<Point<3>> x(rest_position);
+      // Warm start: from the previous plan's answer; the load steps carry
+      // the join points from that plan's positions ('start') to this one's.
+      const bool            warm = warm_start && last_position.size() == n;
+      std::vector<Point<3>> x(warm ? last_position : rest_position);
+      Vector<double>        start(prescribed.size());
+      if (warm)
+        start = last_prescribed;
+      Vector<double> motion(prescribed);
+      motion -= start;
       // External nodal forces (gravity), if the scene has them.
       const double *const load =
         scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
@@ -237,7 +255,7 @@ namespace softface
           {
             Tensor<1, 3> bone;
             for (unsigned int d = 0; d < 3; ++d)
-              bone[d] = fraction * prescribed[3 * j + d];
+              bone[d] = start[3 * j + d] + fraction * motion[3 * j + d];
             const double gap = c.n * (x[j] + step - rest_position[j] - bone);
             if (!c.unilateral || gap < 0.)
               step -= gap * c.n;
@@ -268,14 +286,14 @@ namespace softface
       for (unsigned int j = 0; j < n; ++j)
         if (!is_free[j])
           {
-            const double motion =
-              std::sqrt(prescribed[3 * j] * prescribed[3 * j] +
-                        prescribed[3 * j + 1] * prescribed[3 * j + 1] +
-                        prescribed[3 * j + 2] * prescribed[3 * j + 2]);
-            if (motion == 0.)
+            const double length =
+              std::sqrt(motion[3 * j] * motion[3 * j] +
+                        motion[3 * j + 1] * motion[3 * j + 1] +
+                        motion[3 * j + 2] * motion[3 * j + 2]);
+            if (length == 0.)
               continue;
             moving_joins.push_back(j);
-            largest_motion = std::max(largest_motion, motion);
+            largest_motion = std::max(largest_motion, length);
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
               if (is_free[other_end[i]])
                 shortest_at_join =
@@ -288,14 +306,14 @@ namespace softface
       for (const auto &c : constraints)
         if (c.a == c.b)
           {
-            const double motion =
-              std::sqrt(prescribed[3 * c.a] * prescribed[3 * c.a] +
-                        prescribed[3 * c.a + 1] * prescribed[3 * c.a + 1] +
-                        prescribed[3 * c.a + 2] * prescribed[3 * c.a + 2]);
-            if (motion == 0.)
+            const double length =
+              std::sqrt(motion[3 * c.a] * motion[3 * c.a] +
+                        motion[3 * c.a + 1] * motion[3 * c.a + 1] +
+                        motion[3 * c.a + 2] * motion[3 * c.a + 2]);
+            if (length == 0.)
               continue;
             surface_moves  = true;
-            largest_motion = std::max(largest_motion, motion);
+            largest_motion = std::max(largest_motion, length);
             for (unsigned int i = row_start[c.a]; i < row_start[c.a + 1]; ++i)
               shortest_at_join =
                 std::min(shortest_at_join,
@@ -360,8 +378,8 @@ namespace softface
           for (const unsigned int j : moving_joins)
             {
               for (unsigned int c = 0; c < 3; ++c)
-                x[j][c] =
-                  rest_position[j][c] + fraction * prescribed[3 * j + c];
+                x[j][c] = rest_position[j][c] + start[3 * j + c] +
+                          fraction * motion[3 * j + c];
               for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                 {
                   const unsigned int k = other_end[i];
@@ -533,6 +551,8 @@ namespace softface
       last_report.blocked_updates = blocked_updates;
       set_iterations(sweep);
       set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
+      if (warm)
+        add_detail("warm start", "from the previous plan");
       add_detail("load steps", n_load_steps);
       add_detail("point updates", point_updates);
       add_detail("largest pending step", last_report.max_step, "mm");
@@ -559,6 +579,9 @@ namespace softface
                "use another model.";
           throw Error(m.str());
         }
+      // The next plan starts here.
+      last_position   = x;
+      last_prescribed = prescribed;
     }
 
     const std::vector<MassSpring::Spring> &

@@ -169,6 +169,7 @@ namespace softface
           bone = load_path(load);
           join_motion(bone, target);
         });
+      newton.set_initial_guess(initial_guess);
       if (vertex_constraints)
         newton.set_vertex_constraints(vertex_constraints.get(),
                                       &prescribed,
@@ -188,6 +189,8 @@ namespace softface
 
       set_iterations(last_report.newton_iterations);
       set_residual(last_report.final_residual);
+      if (last_report.started_from_guess)
+        add_detail("initial guess", "first step from it");
       add_detail("load steps", last_report.load_steps);
       add_detail("cut-backs", last_report.cutbacks);
       if (last_report.damped_predictors > 0)

@@ -8,6 +8,7 @@
 #include <softface/core/error.h>
 #include <softface/core/planning.h>
 #include <softface/core/rigid_motion.h>
+#include <softface/core/threads.h>
 #include <softface/serve/interactive_planner.h>
 #include <softface/simulator/skin_output.h>
 
@@ -83,9 +84,13 @@ namespace softface
       SkinOutput *skin = simulator.skin();
       if (skin != nullptr)
         {
-          shown = skin->skin_surface();
-          post  = skin->post_operative_surface();
-          kind  = "dense skin";
+          shown               = skin->skin_surface();
+          post                = skin->post_operative_surface();
+          kind                = "dense skin";
+          const auto &weights = skin->mapping();
+          for (unsigned int i = 0; i < shown.points.size(); ++i)
+            if (weights.row_start[i + 1] > weights.row_start[i])
+              moving.push_back(i);
         }
       else
         {
@@ -110,7 +115,32 @@ namespace softface
                 }
               shown.triangles.push_back(t);
             }
-          kind = "mesh surface";
+          kind             = "mesh surface";
+          const auto moved = [this](const unsigned int segment) {
+            return std::find(segment_indices.begin(),
+                             segment_indices.end(),
+                             segment) != segment_indices.end();
+          };
+          for (unsigned int i = 0; i < mesh_vertex_of_point.size(); ++i)
+            {
+              const unsigned int segment =
+                scene.vertex_segment()[mesh_vertex_of_point[i]];
+              if (segment == numbers::invalid_unsigned_int || moved(segment))
+                moving.push_back(i);
+            }
+        }
+
+      // Distances to the post-operative skin: the tree once, every point at
+      // rest once (the points that never move keep theirs).
+      if (!post.points.empty())
+        {
+          Timer timer;
+          distance_to_post = std::make_unique<Validation::SignedDistance>(post);
+          rest_distance.resize(shown.points.size());
+          distances(shown.points, rest_distance.size(), nullptr, rest_distance);
+          out << "  post-operative skin: " << post.points.size()
+              << " points; distances at rest " << std::setprecision(3)
+              << timer.wall_time() << " s" << std::endl;
         }
 
       // Each offered model: set up, its basis built, then freed.
@@ -176,6 +206,33 @@ namespace softface
       return post;
     }
 
+    const std::vector<unsigned int> &
+    InteractivePlanner::moving_points() const
+    {
+      return moving;
+    }
+
+    const std::vector<float> &
+    InteractivePlanner::rest_distances() const
+    {
+      return rest_distance;
+    }
+
+    void
+    InteractivePlanner::distances(const std::vector<Point<3>>     &points,
+                                  const unsigned int               n,
+                                  const std::vector<unsigned int> *which,
+                                  std::vector<float> &distance) const
+    {
+      // Independent queries, in ranges on the threads.
+      const unsigned int range = 4096;
+      Threads::run_tasks((n + range - 1) / range, [&](const unsigned int t) {
+        for (unsigned int k = t * range; k < std::min(n, (t + 1) * range); ++k)
+          distance[k] =
+            (*distance_to_post)(points[which != nullptr ? (*which)[k] : k]);
+      });
+    }
+
     const std::string &
     InteractivePlanner::surface_kind() const
     {
@@ -184,7 +241,8 @@ namespace softface
 
     InteractivePlanner::Result
     InteractivePlanner::replan(const std::string         &model,
-                               const std::vector<Motion> &motions) const
+                               const std::vector<Motion> &motions,
+                               const bool                 with_distance) const
     {
       const auto m = std::find(names.begin(), names.end(), model);
       if (m == names.end())
@@ -233,21 +291,33 @@ namespace softface
 
       timer.restart();
       const Scene &scene = simulator.scene();
-      result.displacement.resize(3 * shown.points.size());
+      result.displacement.resize(3 * moving.size());
       if (mesh_vertex_of_point.empty())
         {
           std::vector<Tensor<1, 3>> skin_u;
           simulator.skin()->map(scene, u, skin_u);
-          for (unsigned int i = 0; i < skin_u.size(); ++i)
+          for (unsigned int k = 0; k < moving.size(); ++k)
             for (unsigned int c = 0; c < 3; ++c)
-              result.displacement[3 * i + c] = skin_u[i][c];
+              result.displacement[3 * k + c] = skin_u[moving[k]][c];
         }
       else
-        for (unsigned int i = 0; i < mesh_vertex_of_point.size(); ++i)
+        for (unsigned int k = 0; k < moving.size(); ++k)
           for (unsigned int c = 0; c < 3; ++c)
-            result.displacement[3 * i + c] =
-              u[scene.vertex_dofs()[mesh_vertex_of_point[i]][c]];
+            result.displacement[3 * k + c] =
+              u[scene.vertex_dofs()[mesh_vertex_of_point[moving[k]]][c]];
       result.mapping_ms = 1e3 * timer.wall_time();
+
+      if (with_distance && distance_to_post)
+        {
+          timer.restart();
+          std::vector<Point<3>> displaced(shown.points);
+          for (unsigned int k = 0; k < moving.size(); ++k)
+            for (unsigned int c = 0; c < 3; ++c)
+              displaced[moving[k]][c] += result.displacement[3 * k + c];
+          result.distance.resize(moving.size());
+          distances(displaced, moving.size(), &moving, result.distance);
+          result.distance_ms = 1e3 * timer.wall_time();
+        }
       return result;
     }
   } // namespace Serve

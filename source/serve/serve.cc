@@ -138,6 +138,26 @@ namespace softface
         return {200,
                 "application/octet-stream",
                 surface_bytes(planner.surface())};
+      if (path == "/moving.bin")
+        {
+          std::string bytes;
+          append<std::uint32_t>(bytes, planner.moving_points().size());
+          for (const unsigned int i : planner.moving_points())
+            append<std::uint32_t>(bytes, i);
+          return {200, "application/octet-stream", bytes};
+        }
+      if (path == "/rest_distance.bin")
+        {
+          const auto &d = planner.rest_distances();
+          if (d.empty())
+            return {404,
+                    "text/plain",
+                    "the scene has no post-operative skin\n"};
+          return {200,
+                  "application/octet-stream",
+                  std::string(reinterpret_cast<const char *>(d.data()),
+                              4 * d.size())};
+        }
       if (path == "/postop.bin")
         {
           if (planner.post_operative().points.empty())
@@ -211,16 +231,24 @@ namespace softface
                               "ry, rz].");
               }
 
-          const auto  result = planner.replan(model, motions);
+          const auto result =
+            planner.replan(model,
+                           motions,
+                           request.get<bool>("distance", false));
           std::string bytes;
-          bytes.reserve(16 + 4 * result.displacement.size());
+          bytes.reserve(24 + 4 * result.displacement.size() +
+                        4 * result.distance.size());
           append<std::uint32_t>(bytes, id < 0 ? 0 : id);
           append<float>(bytes, result.combination_ms);
           append<float>(bytes, result.mapping_ms);
+          append<float>(bytes, result.distance_ms);
           append<std::uint32_t>(bytes, result.displacement.size() / 3);
+          append<std::uint32_t>(bytes, result.distance.empty() ? 0 : 1);
           bytes.append(reinterpret_cast<const char *>(
                          result.displacement.data()),
                        4 * result.displacement.size());
+          bytes.append(reinterpret_cast<const char *>(result.distance.data()),
+                       4 * result.distance.size());
           return {true, bytes};
         }
       catch (const std::exception &e)

@@ -600,7 +600,17 @@ namespace softface
                     model->set_load_path([&plan, &scene](const double load) {
                       return plan.planning.prescribed_displacement(scene, load);
                     });
+                    // A model that ran this plan from its response basis
+                    // offers its answer as a start (the nonlinear models
+                    // take it).
+                    const Vector<double> *guess = nullptr;
+                    for (const auto &earlier : model_runs)
+                      if (guess == nullptr && earlier.basis_time > 0. &&
+                          !earlier.failed && earlier.planning == run.planning)
+                        guess = &earlier.displacement;
+                    model->set_initial_guess(guess);
                     model->solve(prescribed[p], run.displacement);
+                    model->set_initial_guess(nullptr);
                     run.statistics = model->statistics();
                   }
                 // Overflowing inputs (moduli or loads far out of range) or

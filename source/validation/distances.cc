@@ -15,23 +15,32 @@ namespace softface
 {
   namespace Validation
   {
+    SignedDistance::SignedDistance(const SurfaceMapping::Surface &to)
+        : to(to)
+        , search(to)
+        , normals(SurfaceMapping::point_normals(to))
+    {}
+
+    double
+    SignedDistance::operator()(const Point<3> &point) const
+    {
+      const auto   hit = search.closest(point);
+      const auto  &tri = to.triangles[hit.triangle];
+      Tensor<1, 3> normal;
+      for (unsigned int k = 0; k < 3; ++k)
+        normal += hit.barycentric[k] * normals[tri[k]];
+      const double side = (point - hit.point) * normal;
+      return side < 0. ? -hit.distance : hit.distance;
+    }
+
     std::vector<double>
     signed_distances(const std::vector<Point<3>>   &points,
                      const SurfaceMapping::Surface &to)
     {
-      const SurfaceMapping::TriangleSearch search(to);
-      const auto          normals = SurfaceMapping::point_normals(to);
-      std::vector<double> distances(points.size());
+      const SignedDistance distance(to);
+      std::vector<double>  distances(points.size());
       for (unsigned int i = 0; i < points.size(); ++i)
-        {
-          const auto   hit = search.closest(points[i]);
-          const auto  &tri = to.triangles[hit.triangle];
-          Tensor<1, 3> normal;
-          for (unsigned int k = 0; k < 3; ++k)
-            normal += hit.barycentric[k] * normals[tri[k]];
-          const double side = (points[i] - hit.point) * normal;
-          distances[i]      = side < 0. ? -hit.distance : hit.distance;
-        }
+        distances[i] = distance(points[i]);
       return distances;
     }
 

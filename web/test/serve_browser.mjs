@@ -43,6 +43,8 @@ try {
   }
   const state = await page.evaluate(() => ({
     latencies: window.softface.latencies.slice(1), lastMax: window.softface.lastMax,
+    drawMs: window.softface.drawMs, updateMs: window.softface.updateMs,
+    answerMs: window.softface.answerMs,
     errors: window.softface.errors.slice() }));
   check(state.latencies.length >= moves, `${moves} re-plans drawn (got ${state.latencies.length})`);
   check(state.lastMax > 0.5, `the face moved (largest |u| ${state.lastMax} mm)`);
@@ -84,11 +86,22 @@ try {
   check(shows.join() === (scene.post_operative ? "pre,post,predicted" : "pre,predicted"),
         `the view switches (${shows.join()})`);
 
+  // Colour by the distance to the post-operative skin: the server measures
+  // every re-plan.
+  if (scene.post_operative) {
+    const before = await page.evaluate(() => window.softface.lastId);
+    await page.check("input[name=colour][value=distance]");
+    await waitFor(before + 1);
+    check(await page.evaluate(() => window.softface.colouredBy) === "distance",
+          "the face is coloured by the distance to the post-operative skin");
+  }
+
   await page.screenshot({ path: screenshot });
   const sorted = state.latencies.slice().sort((a, b) => a - b);
   const median = sorted.length ? sorted[Math.floor(sorted.length / 2)] : NaN;
   console.log(JSON.stringify({ replans: state.latencies.length, median_latency_ms: median,
                                max_latency_ms: sorted[sorted.length - 1],
+                               last_answer_ms: state.answerMs, last_update_ms: state.updateMs, last_draw_ms: state.drawMs,
                                largest_displacement_mm: state.lastMax, bad_request_answers: answers.slice(0, 7),
                                failures }));
 } finally {

@@ -131,6 +131,8 @@ namespace softface
       unsigned int              amg_rebuilds      = 0;
       double                    final_residual    = 0.; ///< relative
       std::vector<unsigned int> iterations_per_step;
+      /// The first load step converged from the initial guess.
+      bool started_from_guess = false;
     };
 
     /// @p where_refused, if given, says where the last refused state was
@@ -176,6 +178,16 @@ namespace softface
                                     Vector<double> &bone)>;
     void
     set_path(const Path &path);
+
+    /**
+     * Start the first load step, if it goes to the full load, from
+     * @p guess (e.g. a linear model's answer to the same plan; its join DoFs
+     * are replaced by the target) instead of the predictor; nullptr: none.
+     * Referenced until solve() returns. A guess the discretisation refuses
+     * falls back to the tangent predictor.
+     */
+    void
+    set_initial_guess(const Vector<double> *guess);
 
     /**
      * Carry @p u (zero on entry) to equilibrium with its join DoFs at
@@ -274,6 +286,7 @@ namespace softface
     const Vector<double> *bone            = nullptr;
     unsigned int          max_rounds      = 50;
     Path                  path;
+    const Vector<double> *initial_guess = nullptr;
     /// For the stability checks (its ordering reused).
     SparseCholesky stability_cholesky;
     /// The bone displacement at the current load on a path, and the load

@@ -142,6 +142,15 @@ namespace softface
       void
       set_load_path(const LoadPath &path);
 
+      /**
+       * A guess of the answer to the next solve() (a linear model's answer
+       * to the same plan), referenced until then; nullptr: none. The
+       * nonlinear models start their first load step from it when it goes
+       * to the full load; the others ignore it.
+       */
+      void
+      set_initial_guess(const Vector<double> *guess);
+
     protected:
       virtual void
       do_setup(const Scene &scene) = 0;
@@ -180,8 +189,9 @@ namespace softface
       void
       warn(const std::string &message);
 
-      std::ostream *progress = nullptr;
-      LoadPath      load_path;
+      std::ostream         *progress = nullptr;
+      LoadPath              load_path;
+      const Vector<double> *initial_guess = nullptr;
 
     private:
       /// The phases the timer holds, in the order they first ran, and

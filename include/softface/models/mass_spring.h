@@ -85,6 +85,10 @@ namespace softface
       double       max_step_fraction = 0.25;
       unsigned int max_sweeps        = 200000;
       bool         prevent_inversion = false;
+      bool         warm_start        = true;
+      /// The last answer's positions and join displacement (Warm start).
+      std::vector<Point<3>> last_position;
+      Vector<double>        last_prescribed;
 
       const Scene               *scene = nullptr;
       std::unique_ptr<PointMesh> mesh;

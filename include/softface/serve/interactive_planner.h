@@ -8,6 +8,7 @@
 #include <softface/models/response_basis.h>
 #include <softface/serve/parameters.h>
 #include <softface/simulator/simulator.h>
+#include <softface/validation/distances.h>
 
 #include <array>
 #include <memory>
@@ -43,10 +44,14 @@ namespace softface
 
       struct Result
       {
-        /// Three per surface point.
+        /// Three per moving point (moving_points()).
         std::vector<float> displacement;
+        /// With a distance asked for: the signed distance (mm) of each
+        /// moving point, displaced, to the post-operative skin.
+        std::vector<float> distance;
         double             combination_ms = 0.;
         double             mapping_ms     = 0.;
+        double             distance_ms    = 0.;
       };
 
       /// Prepare @p scene_file (Simulator::prepare), set up every model of
@@ -66,6 +71,15 @@ namespace softface
       /// The post-operative skin (empty without one).
       const SurfaceMapping::Surface &
       post_operative() const;
+      /// The surface points a plan can move, in increasing order (skin
+      /// points the mesh reaches; mesh surface points not held by a fixed
+      /// segment): a re-plan sends only theirs.
+      const std::vector<unsigned int> &
+      moving_points() const;
+      /// The signed distance (mm) of every surface point at rest to the
+      /// post-operative skin (empty without one).
+      const std::vector<float> &
+      rest_distances() const;
       /// "dense skin" or "mesh surface".
       const std::string &
       surface_kind() const;
@@ -74,13 +88,23 @@ namespace softface
        * The surface's displacement under @p motions (one per moved segment,
        * in moved_segments()' order) by @p model. Throws an Error for an
        * unknown model, a wrong number of motions, a value that is not finite
-       * or past the limits.
+       * or past the limits. With @p with_distance (and a post-operative
+       * skin) also the moving points' distances to it.
        */
       Result
       replan(const std::string         &model,
-             const std::vector<Motion> &motions) const;
+             const std::vector<Motion> &motions,
+             const bool                 with_distance = false) const;
 
     private:
+      /// The distance to the post-operative skin of points[k] (or of
+      /// points[(*which)[k]]) for k < n, into distance[k].
+      void
+      distances(const std::vector<Point<3>>     &points,
+                const unsigned int               n,
+                const std::vector<unsigned int> *which,
+                std::vector<float>              &distance) const;
+
       Simulator                                           simulator;
       Parameters                                          serve_parameters;
       std::vector<Segment>                                segments;
@@ -90,6 +114,9 @@ namespace softface
       SurfaceMapping::Surface                             shown;
       SurfaceMapping::Surface                             post;
       std::string                                         kind;
+      std::vector<unsigned int>                           moving;
+      std::unique_ptr<Validation::SignedDistance>         distance_to_post;
+      std::vector<float>                                  rest_distance;
       /// Mesh surface: the triangulation vertex of each surface point.
       std::vector<unsigned int> mesh_vertex_of_point;
     };

@@ -87,6 +87,13 @@ namespace softface
       return post_operative;
     }
 
+    /// The weights of mapping @p k (step A's result).
+    const SurfaceMapping::SkinMapping &
+    mapping(const unsigned int k = 0) const
+    {
+      return mappings[k];
+    }
+
     /// Step B of the first mapping: @p displacement (on the scene's layout)
     /// at every skin point.
     void

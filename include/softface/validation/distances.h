@@ -29,6 +29,22 @@ namespace softface
     signed_distances(const std::vector<Point<3>>   &points,
                      const SurfaceMapping::Surface &to);
 
+    /// The same for points one at a time, the surface's search tree and
+    /// normals built once (softface serve measures every re-plan).
+    class SignedDistance
+    {
+    public:
+      /// Keeps a reference to @p to.
+      explicit SignedDistance(const SurfaceMapping::Surface &to);
+      double
+      operator()(const Point<3> &point) const;
+
+    private:
+      const SurfaceMapping::Surface       &to;
+      const SurfaceMapping::TriangleSearch search;
+      const std::vector<Tensor<1, 3>>      normals;
+    };
+
     /// Regions left out of the statistics (the seed left out the eyes, the
     /// neck): axis-aligned boxes.
     struct Mask
