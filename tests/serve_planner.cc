@@ -150,7 +150,12 @@ SOFTFACE_TEST(serve_planner)
         std::string(R"({"id": 3, "motions": {"bone": [1, 2, 3]}})"),
         std::string(R"({"id": 4, "motions": {"bone": [0, 0, 25, 0, 0, 0]}})"),
         std::string(R"({"id": 5, "motions": {"bone": [0, 0, 0, 0, 0, 31]}})"),
-        std::string(R"({"id": 6, "model": "mass spring"})")})
+        std::string(R"({"id": 6, "model": "mass spring"})"),
+        std::string(R"({"id": 9, "motions": {"bone": [0, 0, 1, 0, 0, 0, 7]}})"),
+        std::string(
+          R"({"id": 10, "motions": {"bone": ["0x10", 0, 0, 0, 0, 0]}})"),
+        std::string(R"({"id": 11, "x": [[[[[[[[[[1]]]]]]]]]]})"),
+        std::string(R"({"id": -5})")})
     {
       const auto answer = handler.message(request);
       deallog << request << " -> " << (answer.binary ? "binary" : answer.data)

@@ -23,13 +23,22 @@ function colourMap(t) {
   return t < 0.5 ? [2 * t, 2 * t, 1] : [1, 2 - 2 * t, 2 - 2 * t];
 }
 
-const scene = await (await fetch("/scene.json")).json();
-const rest = readSurface(await (await fetch("/surface.bin")).arrayBuffer());
-const post = scene.post_operative ? readSurface(await (await fetch("/postop.bin")).arrayBuffer()) : null;
+// A file of the server, or the page says which one failed.
+async function get(path) {
+  const response = await fetch(path);
+  if (!response.ok) {
+    document.getElementById("error").textContent = `${path}: ${response.status} ${await response.text()}`;
+    throw new Error(`${path}: ${response.status}`);
+  }
+  return response;
+}
+const scene = await (await get("/scene.json")).json();
+const rest = readSurface(await (await get("/surface.bin")).arrayBuffer());
+const post = scene.post_operative ? readSurface(await (await get("/postop.bin")).arrayBuffer()) : null;
 // The points a plan can move: each answer holds their displacements only.
-const movingBytes = await (await fetch("/moving.bin")).arrayBuffer();
+const movingBytes = await (await get("/moving.bin")).arrayBuffer();
 const moving = new Uint32Array(movingBytes, 4, new Uint32Array(movingBytes, 0, 1)[0]);
-const restDistance = post ? new Float32Array(await (await fetch("/rest_distance.bin")).arrayBuffer()) : null;
+const restDistance = post ? new Float32Array(await (await get("/rest_distance.bin")).arrayBuffer()) : null;
 document.getElementById("surface-kind").textContent =
   `${scene.surface}: ${scene.points} points, ${scene.triangles} triangles`;
 if (!post) {
@@ -60,6 +69,10 @@ function meshOf(surface) {
   return new THREE.Mesh(geometry, material);
 }
 const face = meshOf(rest);
+// Its bounding sphere is the one at rest: the moved face must not be culled.
+// (Its normals are too: the shading lags the motion, which recomputing them
+// for 400k triangles on every re-plan would cost more than the rest.)
+face.frustumCulled = false;
 world.add(face);
 const postMesh = post ? meshOf(post) : null;
 if (postMesh) { postMesh.visible = false; world.add(postMesh); }
@@ -185,7 +198,11 @@ socket.onmessage = (event) => {
   }
   if (state.pending) send();
 };
-socket.onclose = () => { document.getElementById("error").textContent = "connection closed"; };
+socket.onclose = () => {
+  state.inFlight = null;
+  state.ready = false;
+  document.getElementById("error").textContent = "connection to softface serve closed: reload the page";
+};
 
 function showChoice() {
   const show = document.querySelector("input[name=show]:checked").value;

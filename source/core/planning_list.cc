@@ -8,6 +8,7 @@
 #include <softface/core/planning_list.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace softface
@@ -65,7 +66,7 @@ namespace softface
     prm.declare_entry("To", "0", Patterns::Double(), "Last value.");
     prm.declare_entry("Steps",
                       "2",
-                      Patterns::Integer(2, 100000),
+                      Patterns::Integer(2, 1000),
                       "Number of plans, evenly spaced from 'From' to 'To'.");
     prm.leave_subsection();
     prm.leave_subsection();
@@ -115,7 +116,11 @@ namespace softface
                       "plan of the sweep would be the same.");
         for (unsigned int i = 0; i < steps; ++i)
           {
-            const double       value = from + (to - from) * i / (steps - 1.);
+            double value = from + (to - from) * i / (steps - 1.);
+            // 0 rather than a rounding residue in the plan's name.
+            if (std::abs(value) <
+                1e-12 * std::max(std::abs(from), std::abs(to)))
+              value = 0.;
             std::ostringstream name;
             name << swept << ' ' << quantity << ' ' << value;
             NamedPlanning plan{name.str(), {}};
@@ -150,5 +155,13 @@ namespace softface
         plans.push_back(plan);
       }
     prm.leave_subsection();
+    // Names label rows and files: a sweep's steps too close to print apart
+    // would overwrite each other.
+    for (unsigned int p = 1; p < plans.size(); ++p)
+      for (unsigned int q = 0; q < p; ++q)
+        if (plans[p].name == plans[q].name)
+          throw Error("Planning: two plans are named '" + plans[p].name +
+                      "' (a Sweep's values must differ in their first 6 "
+                      "digits).");
   }
 } // namespace softface

@@ -35,15 +35,29 @@ namespace softface
       offset.reinit(0);
       total_iterations = 0;
       largest_residual = 0.;
+      warnings.clear();
 
-      const auto solve = [&](const Vector<double> &prescribed) {
+      std::string current; // which response, for messages
+      const auto  solve = [&](const Vector<double> &prescribed) {
         Vector<double> u;
-        model.solve(prescribed, u);
+        try
+          {
+            model.solve(prescribed, u);
+          }
+        catch (const std::exception &e)
+          {
+            throw Error("response basis (" + current + "): " + e.what());
+          }
+        for (const auto &warning : model.statistics().warnings)
+          if (std::find(warnings.begin(), warnings.end(), warning) ==
+              warnings.end())
+            warnings.push_back(warning);
         total_iterations += model.statistics().iterations;
         largest_residual =
           std::max(largest_residual, model.statistics().residual);
         return u;
       };
+      current = "the body force alone";
       if (scene->has_body_force())
         offset = solve(Vector<double>(scene->dof_handler.n_dofs()));
 
@@ -82,6 +96,10 @@ namespace softface
                   d[k - 9] = scale;
                 return d;
               };
+              current = "segment '" + scene->segments[s].name + "', " +
+                        (k < 9 ? "(R - I) entry " + std::to_string(k / 3) +
+                                   std::to_string(k % 3) :
+                                 "translation " + std::to_string(k - 9));
               Vector<double> r =
                 solve(Planning::join_displacement(*scene, {s}, unit));
               if (offset.size() != 0)

@@ -40,7 +40,8 @@ namespace softface
         {
           stream.set_option(websocket::stream_base::timeout::suggested(
             beast::role_type::server));
-          stream.read_message_max(1 << 20);
+          // A plan is a few hundred bytes.
+          stream.read_message_max(1 << 16);
           stream.async_accept(
             request,
             beast::bind_front_handler(&WebSocketSession::on_accept,
@@ -70,7 +71,14 @@ namespace softface
             return; // closed by the page, or the server stopping
           const std::string text = beast::buffers_to_string(buffer.data());
           buffer.consume(buffer.size());
-          reply = handler.message(text);
+          try
+            {
+              reply = handler.message(text);
+            }
+          catch (const std::exception &e)
+            {
+              reply = {false, std::string("{\"error\":\"server\"}")};
+            }
           stream.binary(reply.binary);
           stream.async_write(
             net::buffer(reply.data),
@@ -127,7 +135,14 @@ namespace softface
               stream.socket().shutdown(tcp::socket::shutdown_send, ignored);
               return;
             }
-          if (websocket::is_upgrade(request))
+          // Re-plans on /replan, from the server's own page only: another
+          // site open in the browser must not drive it (its Origin differs).
+          const std::string origin(request[http::field::origin]);
+          const bool        same_origin =
+            origin.empty() ||
+            origin == "http://" + std::string(request[http::field::host]);
+          if (websocket::is_upgrade(request) && request.target() == "/replan" &&
+              same_origin)
             {
               std::make_shared<WebSocketSession>(stream.release_socket(),
                                                  handler)
@@ -140,10 +155,21 @@ namespace softface
           response->set(http::field::server, "softface");
           response->set(http::field::cache_control, "no-store");
           RequestHandler::Reply reply;
-          if (request.method() != http::verb::get)
+          if (websocket::is_upgrade(request))
+            reply = {403,
+                     "text/plain",
+                     "WebSockets: /replan, from this server's page only\n"};
+          else if (request.method() != http::verb::get)
             reply = {405, "text/plain", "only GET is served\n"};
           else
-            reply = handler.get(std::string(request.target()));
+            try
+              {
+                reply = handler.get(std::string(request.target()));
+              }
+            catch (const std::exception &e)
+              {
+                reply = {500, "text/plain", std::string(e.what()) + "\n"};
+              }
           response->result(reply.status);
           response->set(http::field::content_type, reply.content_type);
           response->body() = std::move(reply.body);

@@ -154,6 +154,9 @@ namespace softface
           if (model == models.end())
             throw Error(scene_file + ": Serve/Models: '" + name +
                         "' is not among Models/Models.");
+          if (!model->second)
+            throw Error(scene_file + ": Serve/Models: '" + name +
+                        "' is listed twice.");
           if (!model->second->linear_in_motion(scene))
             throw Error(scene_file + ": Serve/Models: '" + name +
                         "' has no response basis (its answer is not linear "

@@ -178,6 +178,14 @@ namespace softface
       long id      = -1;
       try
         {
+          // Boost's JSON parser recurses once per nesting level: a deep
+          // request is refused before it can exhaust the stack.
+          int depth = 0;
+          for (const char c : text)
+            if ((c == '[' || c == '{') && ++depth > 8)
+              throw Error("the request nests deeper than a plan does.");
+            else if (c == ']' || c == '}')
+              --depth;
           pt::ptree          request;
           std::istringstream in(text);
           try
@@ -189,6 +197,11 @@ namespace softface
               throw Error("the request is not JSON (" + e.message() + ").");
             }
           id = request.get<long>("id", -1);
+          if (id < -1 || id > 4294967295L)
+            {
+              id = -1;
+              throw Error("'id' must be a whole number from 0 to 2^32 - 1.");
+            }
           const std::string model =
             request.get<std::string>("model", planner.model_names()[0]);
 
@@ -208,10 +221,17 @@ namespace softface
                 for (const auto &[key, value] : values)
                   {
                     if (k == 6)
-                      break;
+                      throw Error("segment '" + name +
+                                  "': a motion is six numbers [tx, ty, tz, "
+                                  "rx, ry, rz].");
                     const std::string number = value.get_value<std::string>();
-                    std::size_t       used   = 0;
-                    double            v      = 0.;
+                    // Decimal numbers only (std::stod also reads hex, inf).
+                    if (number.find_first_not_of("0123456789+-.eE") !=
+                        std::string::npos)
+                      throw Error("segment '" + name + "': '" + number +
+                                  "' is not a number.");
+                    std::size_t used = 0;
+                    double      v    = 0.;
                     try
                       {
                         v = std::stod(number, &used);

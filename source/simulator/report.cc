@@ -11,6 +11,7 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <map>
 #include <sstream>
 
 namespace softface
@@ -44,13 +45,15 @@ namespace softface
                const std::string     &reference_model,
                std::vector<ModelRun> &runs)
     {
+      std::map<std::string, const ModelRun *> reference_of_plan;
+      for (const ModelRun &run : runs)
+        if (run.model == reference_model && !run.failed)
+          reference_of_plan[run.planning] = &run;
       for (ModelRun &run : runs)
         {
-          const ModelRun *reference = nullptr;
-          for (const ModelRun &candidate : runs)
-            if (candidate.model == reference_model &&
-                candidate.planning == run.planning && !candidate.failed)
-              reference = &candidate;
+          const auto      found = reference_of_plan.find(run.planning);
+          const ModelRun *reference =
+            found == reference_of_plan.end() ? nullptr : found->second;
           run.compared = (reference != nullptr && !run.failed);
           if (run.compared)
             run.difference =

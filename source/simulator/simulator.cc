@@ -212,7 +212,6 @@ namespace softface
     std::vector<std::pair<std::string, std::unique_ptr<Effects::Interface>>>
                                      effects;
     PlanningList                     plannings;
-    std::vector<Vector<double>>      prescribed;
     std::unique_ptr<PointEvaluation> evaluation;
     SkinParameters                   skin_parameters;
     std::unique_ptr<SkinOutput>      skin;
@@ -432,7 +431,6 @@ namespace softface
             << output.directory << "/patient.csv" << std::endl;
       }
 
-    auto &prescribed = state->prescribed;
     {
       // A join point moved by many times the mesh's size is a planning in
       // the wrong units (or a typo), not surgery: refused before any model
@@ -448,14 +446,16 @@ namespace softface
       const double size = low.distance(high);
       for (const auto &plan : plannings.plans)
         {
-          prescribed.push_back(plan.planning.prescribed_displacement(scene));
-          if (!(prescribed.back().linfty_norm() <= 10. * size))
+          // Not kept: a sweep's plans are made again as they are solved.
+          const double largest =
+            plan.planning.prescribed_displacement(scene).linfty_norm();
+          if (!(largest <= 10. * size))
             {
               std::ostringstream m;
               m << std::setprecision(3) << filename
                 << (plannings.plans.size() > 1 ? ": plan '" + plan.name + "'" :
                                                  std::string(": the planning"))
-                << " moves a join point by " << prescribed.back().linfty_norm()
+                << " moves a join point by " << largest
                 << " mm, more than ten times the mesh's size (" << size
                 << " mm); check Planning's translations and rotation "
                 << "centres (mm).";
@@ -478,7 +478,6 @@ namespace softface
     const auto        &output     = state->output;
     auto              &models     = state->models;
     const auto        &plannings  = state->plannings;
-    const auto        &prescribed = state->prescribed;
     const auto        &skin       = state->skin;
     const auto        &evaluation = state->evaluation;
     const unsigned int n_plans    = plannings.plans.size();
@@ -594,6 +593,9 @@ namespace softface
                        ""});
                     run.statistics.details.push_back(
                       {"basis memory", basis.memory_mb(), "", "MB"});
+                    for (const auto &warning : basis.warnings)
+                      run.statistics.warnings.push_back("response basis: " +
+                                                        warning);
                   }
                 else
                   {
@@ -603,13 +605,16 @@ namespace softface
                     // A model that ran this plan from its response basis
                     // offers its answer as a start (the nonlinear models
                     // take it).
+                    // (Every earlier model has a run per plan, in order.)
                     const Vector<double> *guess = nullptr;
-                    for (const auto &earlier : model_runs)
-                      if (guess == nullptr && earlier.basis_time > 0. &&
-                          !earlier.failed && earlier.planning == run.planning)
-                        guess = &earlier.displacement;
+                    for (std::size_t r = p; r < model_runs.size() && !guess;
+                         r += n_plans)
+                      if (model_runs[r].basis_time > 0. &&
+                          !model_runs[r].failed)
+                        guess = &model_runs[r].displacement;
                     model->set_initial_guess(guess);
-                    model->solve(prescribed[p], run.displacement);
+                    model->solve(plan.planning.prescribed_displacement(scene),
+                                 run.displacement);
                     model->set_initial_guess(nullptr);
                     run.statistics = model->statistics();
                   }

@@ -69,6 +69,8 @@ namespace softface
       /// residual.
       unsigned int total_iterations = 0;
       double       largest_residual = 0.;
+      /// The models' warnings in the basis solves, each once.
+      std::vector<std::string> warnings;
 
     private:
       const Scene              *scene = nullptr;

@@ -129,8 +129,10 @@ namespace softface
 
   private:
     struct Prepared;
-    std::unique_ptr<Prepared>     state;
+    // The scene outlives what is prepared on it (models hold DoF handlers
+    // on its triangulation): declared first, destroyed last.
     std::unique_ptr<Scene>        the_scene;
+    std::unique_ptr<Prepared>     state;
     std::vector<Report::ModelRun> model_runs;
     std::string                   reference;
   };
