@@ -180,6 +180,18 @@ namespace softface
       load_path = path;
     }
 
+    std::string
+    Interface::converged_equivalent() const
+    {
+      return "";
+    }
+
+    void
+    Interface::set_converged_answer(const Vector<double> *answer)
+    {
+      converged_answer = answer;
+    }
+
     void
     Interface::set_initial_guess(const Vector<double> *guess)
     {

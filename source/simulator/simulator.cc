@@ -613,9 +613,21 @@ namespace softface
                           !model_runs[r].failed)
                         guess = &model_runs[r].displacement;
                     model->set_initial_guess(guess);
+                    // The answer of the model that solves this one's
+                    // equations exactly, if it ran this plan already.
+                    const Vector<double> *converged = nullptr;
+                    const std::string     equivalent =
+                      model->converged_equivalent();
+                    for (std::size_t r = p; r < model_runs.size() && !converged;
+                         r += n_plans)
+                      if (model_runs[r].model == equivalent &&
+                          !model_runs[r].failed)
+                        converged = &model_runs[r].displacement;
+                    model->set_converged_answer(converged);
                     model->solve(plan.planning.prescribed_displacement(scene),
                                  run.displacement);
                     model->set_initial_guess(nullptr);
+                    model->set_converged_answer(nullptr);
                     run.statistics = model->statistics();
                   }
                 // Overflowing inputs (moduli or loads far out of range) or

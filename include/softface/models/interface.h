@@ -143,6 +143,23 @@ namespace softface
       set_load_path(const LoadPath &path);
 
       /**
+       * The registered model whose answer is this one's converged answer
+       * (the same equations solved exactly), or empty. The mass tensor
+       * model: "linear fem". With set_converged_answer() a model can then
+       * measure its precision without solving them again.
+       */
+      virtual std::string
+      converged_equivalent() const;
+
+      /**
+       * That model's answer to the next solve()'s plan (referenced until
+       * then); nullptr: none, the model solves the equations itself if it
+       * needs them.
+       */
+      void
+      set_converged_answer(const Vector<double> *answer);
+
+      /**
        * A guess of the answer to the next solve() (a linear model's answer
        * to the same plan), referenced until then; nullptr: none. The
        * nonlinear models start their first load step from it when it goes
@@ -191,7 +208,8 @@ namespace softface
 
       std::ostream         *progress = nullptr;
       LoadPath              load_path;
-      const Vector<double> *initial_guess = nullptr;
+      const Vector<double> *initial_guess    = nullptr;
+      const Vector<double> *converged_answer = nullptr;
 
     private:
       /// The phases the timer holds, in the order they first ran, and

@@ -58,6 +58,9 @@ namespace softface
       /// True without unilateral contact (the active set is not linear).
       bool
       linear_in_motion(const Scene &scene) const override;
+      /// "linear fem": the tensors are the blocks of its stiffness.
+      std::string
+      converged_equivalent() const override;
 
       /// Set the solution scheme in code (tests, benchmarks).
       void
