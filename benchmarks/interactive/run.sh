@@ -18,14 +18,10 @@ softface=${SOFTFACE:-$root/build/softface}
 work=${INTERACTIVE_WORK:-/tmp/softface-interactive}
 results=$root/doc/results
 [ -x "$softface" ] || { echo "no softface binary at $softface (build it or set SOFTFACE)"; exit 1; }
-if ! /usr/bin/python3 -c "import matplotlib" 2> /dev/null; then
-  if [ "$(id -u)" = 0 ]; then
-    apt-get install -y -qq python3-matplotlib
-  else
-    echo "benchmarks/interactive needs: sudo apt-get install python3-matplotlib"
-    exit 1
-  fi
-fi
+# The Debian packages and the page's npm packages, as ./run.sh and ./test.sh install them.
+source "$root/scripts/bootstrap.sh"
+softface_ensure_packages python3-matplotlib chromium
+(cd "$root" && softface_web_packages)
 scene=$root/prm/patients/P1.prm
 quick=()
 if [ "${1:-}" = "--quick" ]; then

@@ -14,14 +14,9 @@ softface=${SOFTFACE:-$root/build/softface}
 work=${THREADS_WORK:-/tmp/softface-threads}
 results=$root/doc/results
 [ -x "$softface" ] || { echo "no softface binary at $softface (build it or set SOFTFACE)"; exit 1; }
-if ! /usr/bin/python3 -c "import gmsh, matplotlib" 2> /dev/null; then
-  if [ "$(id -u)" = 0 ]; then
-    apt-get install -y -qq python3-gmsh python3-matplotlib
-  else
-    echo "benchmarks/threads needs: sudo apt-get install python3-gmsh python3-matplotlib"
-    exit 1
-  fi
-fi
+# The Debian packages, as ./run.sh installs them.
+source "$root/scripts/bootstrap.sh"
+softface_ensure_packages python3-gmsh python3-matplotlib
 h=1.68
 quick=()
 if [ "${1:-}" = "--quick" ]; then quick=(--quick); h=4.3; results=$work/quick-results; fi

@@ -137,7 +137,8 @@ namespace softface
           Timer timer;
           distance_to_post = std::make_unique<Validation::SignedDistance>(post);
           rest_distance.resize(shown.points.size());
-          distances(shown.points, rest_distance.size(), nullptr, rest_distance);
+          distances([this](const unsigned int i) { return shown.points[i]; },
+                    rest_distance);
           out << "  post-operative skin: " << post.points.size()
               << " points; distances at rest " << std::setprecision(3)
               << timer.wall_time() << " s" << std::endl;
@@ -222,17 +223,16 @@ namespace softface
     }
 
     void
-    InteractivePlanner::distances(const std::vector<Point<3>>     &points,
-                                  const unsigned int               n,
-                                  const std::vector<unsigned int> *which,
-                                  std::vector<float> &distance) const
+    InteractivePlanner::distances(
+      const std::function<Point<3>(unsigned int)> &point,
+      std::vector<float>                          &distance) const
     {
       // Independent queries, in ranges on the threads.
+      const unsigned int n     = distance.size();
       const unsigned int range = 4096;
       Threads::run_tasks((n + range - 1) / range, [&](const unsigned int t) {
         for (unsigned int k = t * range; k < std::min(n, (t + 1) * range); ++k)
-          distance[k] =
-            (*distance_to_post)(points[which != nullptr ? (*which)[k] : k]);
+          distance[k] = (*distance_to_post)(point(k));
       });
     }
 
@@ -313,12 +313,15 @@ namespace softface
       if (with_distance && distance_to_post)
         {
           timer.restart();
-          std::vector<Point<3>> displaced(shown.points);
-          for (unsigned int k = 0; k < moving.size(); ++k)
-            for (unsigned int c = 0; c < 3; ++c)
-              displaced[moving[k]][c] += result.displacement[3 * k + c];
+          // Only the moving points, displaced.
+          const float *const u = result.displacement.data();
           result.distance.resize(moving.size());
-          distances(displaced, moving.size(), &moving, result.distance);
+          distances(
+            [&](const unsigned int k) {
+              return shown.points[moving[k]] +
+                     Tensor<1, 3>({u[3 * k], u[3 * k + 1], u[3 * k + 2]});
+            },
+            result.distance);
           result.distance_ms = 1e3 * timer.wall_time();
         }
       return result;

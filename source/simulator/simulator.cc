@@ -33,6 +33,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -493,15 +494,29 @@ namespace softface
         const std::string tag = "  [" + std::to_string(m + 1) + '/' +
                                 std::to_string(models.size()) + "] " + name +
                                 ": ";
+        // (@p where empty: said once already, for the model's first plan.)
         const auto record_failure = [&](Report::ModelRun     &run,
                                         const std::string    &where,
                                         const std::exception &e) {
-          out << where << "failed" << std::endl;
           run.failed = true;
           run.error  = error_message(e);
           run.displacement.reinit(0);
-          err << "softface: error: " << run.error << std::endl;
           ++n_failed;
+          if (where.empty())
+            return;
+          out << where << "failed" << std::endl;
+          err << "softface: error: " << run.error << std::endl;
+        };
+        // The answer of an earlier model to plan p that @p wanted accepts
+        // (every earlier model has a run per plan, in order), or nullptr.
+        const auto earlier_answer =
+          [&](const unsigned int                                   p,
+              const std::function<bool(const Report::ModelRun &)> &wanted)
+          -> const Vector<double> * {
+          for (std::size_t r = p; r < model_runs.size(); r += n_plans)
+            if (!model_runs[r].failed && wanted(model_runs[r]))
+              return &model_runs[r].displacement;
+          return nullptr;
         };
         const auto plan_of_run = [&](const unsigned int p) {
           return n_plans > 1 ? plannings.plans[p].name : std::string();
@@ -547,14 +562,7 @@ namespace softface
                 Report::ModelRun run;
                 run.model    = name;
                 run.planning = plan_of_run(p);
-                if (p == 0)
-                  record_failure(run, tag, e);
-                else
-                  {
-                    run.failed = true;
-                    run.error  = error_message(e);
-                    ++n_failed;
-                  }
+                record_failure(run, p == 0 ? tag : std::string(), e);
                 model_runs.push_back(std::move(run));
               }
             model.reset();
@@ -604,26 +612,18 @@ namespace softface
                     });
                     // A model that ran this plan from its response basis
                     // offers its answer as a start (the nonlinear models
-                    // take it).
-                    // (Every earlier model has a run per plan, in order.)
-                    const Vector<double> *guess = nullptr;
-                    for (std::size_t r = p; r < model_runs.size() && !guess;
-                         r += n_plans)
-                      if (model_runs[r].basis_time > 0. &&
-                          !model_runs[r].failed)
-                        guess = &model_runs[r].displacement;
-                    model->set_initial_guess(guess);
-                    // The answer of the model that solves this one's
-                    // equations exactly, if it ran this plan already.
-                    const Vector<double> *converged = nullptr;
-                    const std::string     equivalent =
+                    // take it); the model that solves this one's equations
+                    // exactly, its answer.
+                    model->set_initial_guess(
+                      earlier_answer(p, [](const Report::ModelRun &r) {
+                        return r.basis_time > 0.;
+                      }));
+                    const std::string equivalent =
                       model->converged_equivalent();
-                    for (std::size_t r = p; r < model_runs.size() && !converged;
-                         r += n_plans)
-                      if (model_runs[r].model == equivalent &&
-                          !model_runs[r].failed)
-                        converged = &model_runs[r].displacement;
-                    model->set_converged_answer(converged);
+                    model->set_converged_answer(
+                      earlier_answer(p, [&](const Report::ModelRun &r) {
+                        return r.model == equivalent;
+                      }));
                     model->solve(plan.planning.prescribed_displacement(scene),
                                  run.displacement);
                     model->set_initial_guess(nullptr);

@@ -11,6 +11,7 @@
 #include <softface/validation/distances.h>
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -97,13 +98,11 @@ namespace softface
              const bool                 with_distance = false) const;
 
     private:
-      /// The distance to the post-operative skin of points[k] (or of
-      /// points[(*which)[k]]) for k < n, into distance[k].
+      /// The distance to the post-operative skin of point(k) for every k
+      /// below distance.size(), into distance[k].
       void
-      distances(const std::vector<Point<3>>     &points,
-                const unsigned int               n,
-                const std::vector<unsigned int> *which,
-                std::vector<float>              &distance) const;
+      distances(const std::function<Point<3>(unsigned int)> &point,
+                std::vector<float>                          &distance) const;
 
       Simulator                                           simulator;
       Parameters                                          serve_parameters;
