@@ -6,11 +6,13 @@
 #include <softface/io/gmsh_reader.h>
 #include <softface/io/text_tokens.h>
 
+#include <algorithm>
 #include <array>
 #include <limits>
 #include <map>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 namespace softface
 {
@@ -109,6 +111,7 @@ namespace softface
                     in.fail("a second $Nodes section");
                   format == 4 ? nodes_4() : nodes_2();
                   in.expect("$EndNodes");
+                  index_node_tags();
                   have_nodes = true;
                 }
               else if (section == "$Elements")
@@ -149,6 +152,7 @@ namespace softface
         {
           nodes_2();
           in.expect("$ENDNOD");
+          index_node_tags();
           in.expect("$ELM");
           const std::uint64_t n = in.count("the number of elements", 6);
           for (std::uint64_t i = 0; i < n; ++i)
@@ -175,6 +179,10 @@ namespace softface
         MeshData    data;
         // gmsh node tag -> index in data.vertices.
         std::unordered_map<std::int64_t, unsigned int> vertex_of_tag;
+        // The same as an array when the tags are dense (gmsh numbers its
+        // nodes 1..n): each element's nodes are then looked up without
+        // hashing (4 per tetrahedron, 2M at 491k tetrahedra).
+        std::vector<unsigned int> vertex_of_dense_tag;
         // Physical tag of each entity, by dimension (format 4).
         std::array<std::map<std::int64_t, std::int64_t>, 4> physical_of;
         bool have_entities = false;
@@ -198,11 +206,28 @@ namespace softface
           return x;
         }
 
+        void
+        index_node_tags()
+        {
+          std::int64_t largest = 0;
+          for (const auto &[tag, index] : vertex_of_tag)
+            largest = std::max(largest, tag);
+          if (largest > 2 * static_cast<std::int64_t>(vertex_of_tag.size()))
+            return;
+          vertex_of_dense_tag.assign(largest + 1,
+                                     numbers::invalid_unsigned_int);
+          for (const auto &[tag, index] : vertex_of_tag)
+            vertex_of_dense_tag[tag] = index;
+        }
+
         unsigned int
         vertex(const std::int64_t element)
         {
-          const std::int64_t tag  = in.integer("a node tag", 1, max_tag);
-          const auto         node = vertex_of_tag.find(tag);
+          const std::int64_t tag = in.integer("a node tag", 1, max_tag);
+          if (static_cast<std::uint64_t>(tag) < vertex_of_dense_tag.size() &&
+              vertex_of_dense_tag[tag] != numbers::invalid_unsigned_int)
+            return vertex_of_dense_tag[tag];
+          const auto node = vertex_of_tag.find(tag);
           if (node == vertex_of_tag.end())
             in.fail("element " + std::to_string(element) + " refers to node " +
                     std::to_string(tag) + ", which $Nodes does not define");
@@ -226,9 +251,9 @@ namespace softface
                     std::to_string(max_id));
           const MeshData::Origin origin{number, in.line()};
           if (type == 4)
-            data.add_tetrahedron(vertices, id, origin);
+            data.add_tetrahedron(std::move(vertices), id, origin);
           else if (type == 2)
-            data.add_triangle(vertices, id, origin);
+            data.add_triangle(std::move(vertices), id, origin);
         }
 
         // The start of an element line in formats 1 and 2: its number and

@@ -15,6 +15,7 @@
 #include <memory>
 #include <sstream>
 #include <tuple>
+#include <vector>
 
 namespace softface
 {
@@ -29,23 +30,23 @@ namespace softface
     }
 
     void
-    MeshData::add_tetrahedron(const std::vector<unsigned int> &points,
-                              const types::material_id         id,
-                              const Origin                    &origin)
+    MeshData::add_tetrahedron(std::vector<unsigned int> points,
+                              const types::material_id  id,
+                              const Origin             &origin)
     {
       cells.emplace_back(4);
-      cells.back().vertices    = points;
+      cells.back().vertices    = std::move(points);
       cells.back().material_id = id;
       cell_origins.push_back(origin);
     }
 
     void
-    MeshData::add_triangle(const std::vector<unsigned int> &points,
-                           const types::boundary_id         id,
-                           const Origin                    &origin)
+    MeshData::add_triangle(std::vector<unsigned int> points,
+                           const types::boundary_id  id,
+                           const Origin             &origin)
     {
       faces.boundary_quads.emplace_back(3);
-      faces.boundary_quads.back().vertices    = points;
+      faces.boundary_quads.back().vertices    = std::move(points);
       faces.boundary_quads.back().boundary_id = id;
       face_origins.push_back(origin);
     }
@@ -121,13 +122,17 @@ namespace softface
               faces.push_back({t, c});
             }
         }
-      std::sort(sets.begin(), sets.end());
+      sort_by_first_point(sets, n_vertices, [](const auto &set) {
+        return set.first[0];
+      });
       for (std::size_t i = 1; i < sets.size(); ++i)
         if (sets[i].first == sets[i - 1].first)
           fail(data.name(data.cell_origins[sets[i].second]) +
                " has the same four points as " +
                data.name(data.cell_origins[sets[i - 1].second]));
-      std::sort(faces.begin(), faces.end());
+      sort_by_first_point(faces, n_vertices, [](const Face &face) {
+        return face.points[0];
+      });
       for (std::size_t i = 2; i < faces.size(); ++i)
         if (faces[i].points == faces[i - 2].points)
           {

@@ -4,6 +4,9 @@
 #include <deal.II/base/point.h>
 #include <deal.II/grid/tria_description.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
 #include <vector>
 
 namespace softface
@@ -29,6 +32,41 @@ namespace softface
      * result maps each new cell index to the cell's index in @p cells on
      * entry, so messages can still name a cell as its file did.
      */
+    /**
+     * Sort items whose first point is below @p n_points: a counting sort by
+     * that point, then each (small) bucket by operator<. The result is
+     * std::sort's, in a few passes over memory instead of log n levels (the
+     * 2M faces of a 491k-tetrahedron mesh: 0.35 s by std::sort). For lists
+     * of cells or faces, whose points are spread over the mesh.
+     */
+    template <typename Item, typename FirstPoint>
+    void
+    sort_by_first_point(std::vector<Item> &items,
+                        const std::size_t  n_points,
+                        const FirstPoint  &first_point)
+    {
+      std::vector<std::size_t> start(n_points + 1, 0);
+      for (const Item &item : items)
+        ++start[first_point(item) + 1];
+      std::partial_sum(start.begin(), start.end(), start.begin());
+      std::vector<Item>        sorted(items.size());
+      std::vector<std::size_t> next(start.begin(), start.end() - 1);
+      for (Item &item : items)
+        sorted[next[first_point(item)]++] = std::move(item);
+      for (std::size_t p = 0; p < n_points; ++p)
+        std::sort(sorted.begin() + start[p], sorted.begin() + start[p + 1]);
+      items = std::move(sorted);
+    }
+
+    /**
+     * The position of each point on a Hilbert curve through the points'
+     * bounding box with @p bits bits per direction, packed into one integer:
+     * deal.II's Utilities::inverse_Hilbert_space_filling_curve() and
+     * pack_integers(), computed in pieces on the threads.
+     */
+    std::vector<std::uint64_t>
+    hilbert_keys(const std::vector<Point<3>> &points, int bits);
+
     std::vector<unsigned int>
     order_for_locality(std::vector<Point<3>>    &vertices,
                        std::vector<CellData<3>> &cells,

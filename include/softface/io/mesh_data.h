@@ -43,13 +43,13 @@ namespace softface
       /// Add a tetrahedron with its material id, or a boundary triangle with
       /// its boundary id, and where it came from.
       void
-      add_tetrahedron(const std::vector<unsigned int> &points,
-                      types::material_id               id,
-                      const Origin                    &origin);
+      add_tetrahedron(std::vector<unsigned int> points,
+                      types::material_id        id,
+                      const Origin             &origin);
       void
-      add_triangle(const std::vector<unsigned int> &points,
-                   types::boundary_id               id,
-                   const Origin                    &origin);
+      add_triangle(std::vector<unsigned int> points,
+                   types::boundary_id        id,
+                   const Origin             &origin);
 
       /// "element 17 (line 204)", or "cell 17" without a line.
       std::string
