@@ -11,7 +11,7 @@
 #include <softface/core/error.h>
 #include <softface/core/scene.h>
 #include <softface/io/mesh_reader.h>
-#include <softface/patient/pipeline.h>
+#include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
 
 #include <map>
@@ -192,10 +192,8 @@ namespace softface
                                segment.seed_point[2]}}});
           }
         std::ostringstream quiet;
-        const auto         model =
-          Patient::build_patient_model(patient,
-                                       seeds,
-                                       log != nullptr ? *log : quiet);
+        const auto         model = Patient::backend().build_patient_model(
+          patient, seeds, Patient::Stage::mesh, log != nullptr ? *log : quiet);
         patient_figures = model.figures;
         cell_name       = Mesh::read_file(model.mesh_file, triangulation);
         resolve_shared_join_points = true;

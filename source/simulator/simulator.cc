@@ -18,9 +18,7 @@
 #include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
 #include <softface/models/response_basis.h>
-#include <softface/patient/image_io.h>
-#include <softface/patient/pipeline.h>
-#include <softface/patient/planning_recovery.h>
+#include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
 #include <softface/serve/parameters.h>
 #include <softface/simulator/output.h>
@@ -767,20 +765,22 @@ namespace softface
     Timer wall;
     if (stage == "register")
       {
-        Patient::register_post_operative(patient, output.directory, out);
+        Patient::backend().register_post_operative(patient,
+                                                   output.directory,
+                                                   out);
         return 0;
       }
     if (stage == "postop" || stage == "plan")
       return plan_from_skull(prm, filename, stage, patient, seeds, out);
     const auto model =
-      Patient::build_patient_model(patient,
-                                   seeds,
-                                   stage == "phantom" ?
-                                     Patient::Stage::phantom :
-                                     (stage == "segment" ?
-                                        Patient::Stage::segmentation :
-                                        Patient::Stage::mesh),
-                                   out);
+      Patient::backend().build_patient_model(patient,
+                                             seeds,
+                                             stage == "phantom" ?
+                                               Patient::Stage::phantom :
+                                               (stage == "segment" ?
+                                                  Patient::Stage::segmentation :
+                                                  Patient::Stage::mesh),
+                                             out);
     for (const auto &[name, value] : model.figures)
       out << "  " << name << ": " << value << '\n';
     out << "Files in " << patient.work_directory << "/ (wall time "
@@ -824,45 +824,7 @@ namespace softface
           }
         planned.push_back(transform);
       }
-    const auto parts =
-      Patient::bone_part_surfaces(Patient::read_labels(patient.work_directory +
-                                                       "/bone_parts.nii.gz"),
-                                  seeds.size());
-
-    if (stage == "postop")
-      {
-        Patient::write_surface(Patient::moved_skull(parts, planned),
-                               patient.post_operative_skull);
-        out << "Post-operative skull (each bone part moved by the scene's "
-               "Planning): "
-            << patient.post_operative_skull << std::endl;
-        return 0;
-      }
-
-    Patient::TriangleSurface post_operative;
-    try
-      {
-        post_operative = Patient::read_surface(patient.post_operative_skull);
-      }
-    catch (const Error &e)
-      {
-        throw Error(std::string("Scene/Patient/Post-operative skull: ") +
-                    e.what());
-      }
-    const auto               motions = Patient::recover_motions(parts,
-                                                  post_operative,
-                                                  planned,
-                                                  Patient::IcpParameters());
-    std::vector<std::string> names;
-    for (const auto &seed : seeds)
-      names.push_back(seed.name);
-    const std::string section =
-      Patient::planning_section(names, motions, parts);
-    const std::string file = patient.work_directory + "/planning.prm";
-    open_output_file(file) << section;
-    out << section << "Written to " << file
-        << " (a scene takes it with 'include " << file << "')." << std::endl;
-    return 0;
+    return Patient::backend().skull_stage(patient, seeds, planned, stage, out);
   }
 
   const Scene &

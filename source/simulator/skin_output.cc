@@ -7,7 +7,7 @@
 
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
-#include <softface/patient/surface.h>
+#include <softface/patient/backend.h>
 #include <softface/patient/tetrahedral_mesh.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/skin_output.h>
@@ -26,7 +26,7 @@ namespace softface
       Patient::TriangleSurface surface;
       try
         {
-          surface = Patient::read_surface(filename);
+          surface = Patient::backend().read_surface(filename);
         }
       catch (const Error &e)
         {
@@ -248,11 +248,13 @@ namespace softface
     create_output_directory(directory);
     for (const std::string extension : {".ply", ".vtp"})
       {
-        Patient::write_surface(to_patient(skin),
-                               directory + "/skin_preoperative" + extension);
+        Patient::backend().write_surface(
+          to_patient(skin), directory + "/skin_preoperative" + extension, {});
         if (!post_operative.points.empty())
-          Patient::write_surface(to_patient(post_operative),
-                                 directory + "/skin_postoperative" + extension);
+          Patient::backend().write_surface(to_patient(post_operative),
+                                           directory + "/skin_postoperative" +
+                                             extension,
+                                           {});
       }
   }
 
@@ -314,8 +316,12 @@ namespace softface
         const std::string name =
           directory + "/skin_" + Output::file_name_of(model) +
           (parameters.methods.size() > 1 ? "_" + short_name(row.method) : "");
-        Patient::write_surface(to_patient(predicted), name + ".ply");
-        Patient::write_surface(to_patient(predicted), name + ".vtp", fields);
+        Patient::backend().write_surface(to_patient(predicted),
+                                         name + ".ply",
+                                         {});
+        Patient::backend().write_surface(to_patient(predicted),
+                                         name + ".vtp",
+                                         fields);
         if (parameters.write_distances && !distance_values.empty())
           {
             auto csv = open_output_file(name + "_distance.csv");

@@ -17,7 +17,9 @@ namespace softface
      * setting of OMPI_MCA_ess_singleton_isolated in the environment wins.
      * An isolated process gets a session directory of its own
      * (`$TMPDIR/softface-mpi.<pid>`, removed at exit), so that concurrent
-     * runs do not race on a shared one.
+     * runs do not race on a shared one, and Open MPI's local transport
+     * only (OMPI_MCA_pml = ob1, OMPI_MCA_btl = self, unless set), so that
+     * MPI_Init does not probe for networks.
      */
     void
     prepare_serial_mpi();

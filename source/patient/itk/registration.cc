@@ -7,7 +7,6 @@
 
 #include <softface/core/error.h>
 #include <softface/patient/registration.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include "itk_volume.h"
 
@@ -206,29 +205,6 @@ namespace softface
       return {{0.5 * (lower[0] + upper[0]),
                0.5 * (lower[1] + upper[1]),
                0.5 * (lower[2] + upper[2])}};
-    }
-
-    Box
-    parse_box(const std::string &text, const std::string &where)
-    {
-      const auto semicolon = text.find(';');
-      if (semicolon == std::string::npos ||
-          text.find(';', semicolon + 1) != std::string::npos)
-        throw Error(where +
-                    ": expected two corners 'x0, y0, z0; x1, y1, z1' (got '" +
-                    text + "').");
-      const Vec3 a = parse_vec3(text.substr(0, semicolon), where);
-      const Vec3 b = parse_vec3(text.substr(semicolon + 1), where);
-      Box        box;
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          box.lower[d] = std::min(a[d], b[d]);
-          box.upper[d] = std::max(a[d], b[d]);
-          if (!(box.upper[d] > box.lower[d]))
-            throw Error(where + ": the box '" + text + "' is empty (its " +
-                        std::string(1, char('x' + d)) + " extent is 0 mm).");
-        }
-      return box;
     }
 
     RegistrationResult
