@@ -106,7 +106,7 @@ def model_error_section(key, refs, linear_p2_rows, scene_rows, tightest):
 
 
 def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_rows, tightest,
-                   thresholds, models, elapsed):
+                   thresholds, models, elapsed, load=""):
     fields = ["scene", "model", "setting", "n_tets", "n_vertices", "setup_s", "solve_s",
               "total_s", "iterations", "err_median", "err_p90", "err_p95", "err_max",
               "status", "message"]
@@ -118,9 +118,10 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
 
     md = ["# What accuracy costs in time", "",
           f"Made by `{command}` in {elapsed / 60:.1f} min on {machine()}; "
-          "one softface process per case, run one after the other (nothing else running), "
-          "OpenBLAS and ML single-threaded. Times are softface's own setup and solve "
-          "wall times of the model (mesh generation and file output excluded).", "",
+          "one softface process per case, run one after the other, on one thread "
+          "(`Models/Threads = 1`; OpenBLAS and ML single-threaded). Times are softface's own "
+          "setup and solve wall times of the model (mesh generation and file output "
+          f"excluded).{load}", "",
           "Errors are |u - u_ref| in mm at the free vertices of the coarsest mesh "
           "(every run evaluated there by its shape functions), against the reference: "
           "nonlinear FEM (compressible Neo-Hooke, the same Young's modulus and Poisson's "

@@ -206,6 +206,10 @@ def run_softface(prm, output, report_only=False):
     summary.csv; a run that wrote none stopped on its input, whose one-line
     error is the last line of its log."""
     log = output + ".log"
+    if not report_only:
+        # The machine's load as the case starts: 1 is this run alone.
+        with open(output + ".load", "w") as f:
+            f.write(f"{os.getloadavg()[0]:.2f}\n")
     if report_only:
         if not os.path.exists(log):
             sys.exit(f"--report-only: no earlier run of {prm} (missing {log})")
@@ -218,6 +222,21 @@ def run_softface(prm, output, report_only=False):
         return False, lines[-1][len("softface: error:"):].strip() if lines else "no summary.csv"
     failed = [r for r in rows if r["status"] != "ok"]
     return not failed, "; ".join(r["error"] for r in failed)
+
+
+def load_text(work):
+    """The machine's 1-minute load average as the cases started (this run
+    alone makes it about 1; other work on the machine adds to it)."""
+    loads = []
+    for folder, _, files in os.walk(work):
+        for name in files:
+            if name.endswith(".load"):
+                loads.append(float(open(os.path.join(folder, name)).read()))
+    if not loads:
+        return ""
+    return (f" The machine's load average (1 minute) as the {len(loads)} cases started: "
+            f"median {np.median(loads):.2f}, maximum {max(loads):.2f} (this run alone is "
+            "about 1 on 2 cores; more means other work shared the machine).")
 
 
 def summary_row(output, model):
@@ -415,7 +434,7 @@ def main():
         with open(info, "w") as f:
             f.write(f"{elapsed:.1f}\n")
     report.write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_rows,
-                          tightest, THRESHOLDS, MODELS, elapsed)
+                          tightest, THRESHOLDS, MODELS, elapsed, load_text(work))
     report.write_precision(results, command, precision)
     print(f"done in {elapsed / 60:.1f} min; results in {results}/ "
           "(accuracy_vs_time.md/.csv/.png, mtm_precision.md/.csv/.png)", flush=True)

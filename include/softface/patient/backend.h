@@ -15,9 +15,9 @@ namespace softface
   {
     /**
      * The patient pipeline's entry points that the core calls. They need
-     * ITK, VTK and CGAL, whose 50-odd shared libraries took 0.33 s and 38 MB
+     * ITK, VTK and CGAL, whose 50-odd shared libraries took 0.1 s and 32 MB
      * of every softface process to load and relocate (`softface --help`:
-     * 0.64 s against 0.30 s for a program linking deal.II alone), also for
+     * 0.52 s and 192 MB against 0.38 s and 160 MB without them), also for
      * scenes that never touch a patient (issue 16). So the core does not
      * link libsoftface_patient.so: backend() loads it on first use. The
      * parameters of the patient subsections need none of those libraries
