@@ -367,7 +367,7 @@ def main():
             finished = [sc for sc in scenes if sc["key"] in precision]
             report.write_accuracy(results, command, finished, rows, reference_rows,
                                   linear_p2_rows, tightest, THRESHOLDS, MODELS,
-                                  time.time() - progress.start)
+                                  time.time() - progress.start, load_text(work))
             report.write_precision(results, command, precision)
             continue
 
