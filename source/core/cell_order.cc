@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <numeric>
 
 namespace softface
 {
@@ -22,6 +21,7 @@ namespace softface
       // 491k points). The walk is per point: done here in pieces on the
       // threads, after the same mapping (long double, as deal.II's), so the
       // keys are deal.II's on any number of threads.
+      Assert(bits >= 1 && bits <= 21, ExcIndexRange(bits, 1, 22));
       std::vector<std::uint64_t> keys(points.size());
       if (points.empty())
         return keys;

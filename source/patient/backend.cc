@@ -66,16 +66,21 @@ extern "C" const softface::Patient::Backend *
 softface_patient_backend()
 {
   using namespace softface::Patient;
-  static const Backend backend{
-    static_cast<PatientModel (*)(const PatientParameters &,
-                                 const std::vector<SegmentSeed> &,
-                                 Stage,
-                                 std::ostream &)>(&build_patient_model),
-    &register_post_operative,
-    &skull_stage,
-    &read_surface,
-    static_cast<void (*)(const TriangleSurface &,
-                         const std::string &,
-                         const std::vector<PointField> &)>(&write_surface)};
+  static const Backend backend = [] {
+    Backend b;
+    b.build_patient_model =
+      static_cast<PatientModel (*)(const PatientParameters &,
+                                   const std::vector<SegmentSeed> &,
+                                   Stage,
+                                   std::ostream &)>(&build_patient_model);
+    b.register_post_operative = &register_post_operative;
+    b.skull_stage             = &skull_stage;
+    b.read_surface            = &read_surface;
+    b.write_surface =
+      static_cast<void (*)(const TriangleSurface &,
+                           const std::string &,
+                           const std::vector<PointField> &)>(&write_surface);
+    return b;
+  }();
   return &backend;
 }

@@ -5,7 +5,6 @@
 
 #include <softface/core/error.h>
 #include <softface/patient/osteotomy.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -20,9 +19,6 @@ namespace softface
   {
     namespace
     {
-      using dealii::ParameterHandler;
-      namespace Patterns = dealii::Patterns;
-
       double
       dot(const Vec3 &a, const Vec3 &b)
       {

@@ -6,7 +6,6 @@
 
 #include <softface/core/error.h>
 #include <softface/patient/phantom.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,9 +18,6 @@ namespace softface
   {
     namespace
     {
-      using dealii::ParameterHandler;
-      namespace Patterns = dealii::Patterns;
-
       // Implicit primitives: about the signed distance (mm), negative inside.
       inline double
       ellipsoid(const Vec3 &x, const Vec3 &c, const Vec3 &r)

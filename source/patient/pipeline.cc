@@ -1,4 +1,4 @@
-// The patient pipeline (patient, seed 3.1-3.3): its parameters and the stages
+// The patient pipeline (patient, seed 3.1-3.3): the stages
 // CT (phantom or file) -> segmentation and surfaces -> bone parts and the
 // tetrahedral mesh, each leaving files the next reads, skipped when its
 // inputs have not changed. Scene calls it for 'Mesh source = patient'; the
@@ -14,7 +14,6 @@
 #include <softface/patient/pipeline.h>
 #include <softface/patient/registration.h>
 #include <softface/patient/surface.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <chrono>
 #include <filesystem>
@@ -29,9 +28,7 @@ namespace softface
   {
     namespace
     {
-      using dealii::ParameterHandler;
-      namespace Patterns = dealii::Patterns;
-      namespace fs       = std::filesystem;
+      namespace fs = std::filesystem;
 
       // What a stage's output depends on, as text: a stage is skipped when
       // its stamp file holds the same.

@@ -16,23 +16,6 @@ namespace softface
   namespace Mesh
   {
     /**
-     * Put a mesh's cells in the order of a Hilbert curve through their
-     * centres, number the vertices in the order the sorted cells first
-     * touch them, then sort the cells by their vertex numbers. Neighbours in
-     * space are then neighbours in memory: the degrees of freedom (numbered by
-     * deal.II in cell order), the matrix rows, the mass tensor model's point
-     * blocks. A gmsh mesh comes in the order its mesher made it, which
-     * scattered each cell's vertices over the whole vertex array and made
-     * assembly six times slower than on a generated grid of the same size
-     * (issue 16). Every mesh softface's own readers read goes through this
-     * (deal.II's serialised .vtu keeps its order); the generated cube is in
-     * grid order already.
-     *
-     * The boundary faces in @p faces are renumbered with the vertices. The
-     * result maps each new cell index to the cell's index in @p cells on
-     * entry, so messages can still name a cell as its file did.
-     */
-    /**
      * Sort items whose first point is below @p n_points: a counting sort by
      * that point, then each (small) bucket by operator<. The result is
      * std::sort's, in a few passes over memory instead of log n levels (the
@@ -62,11 +45,29 @@ namespace softface
      * The position of each point on a Hilbert curve through the points'
      * bounding box with @p bits bits per direction, packed into one integer:
      * deal.II's Utilities::inverse_Hilbert_space_filling_curve() and
-     * pack_integers(), computed in pieces on the threads.
+     * pack_integers(), computed in pieces on the threads. @p bits is 1 to
+     * 21 (the packed key has 64 bits).
      */
     std::vector<std::uint64_t>
     hilbert_keys(const std::vector<Point<3>> &points, int bits);
 
+    /**
+     * Put a mesh's cells in the order of a Hilbert curve through their
+     * centres, number the vertices in the order the sorted cells first
+     * touch them, then sort the cells by their vertex numbers. Neighbours in
+     * space are then neighbours in memory: the degrees of freedom (numbered by
+     * deal.II in cell order), the matrix rows, the mass tensor model's point
+     * blocks. A gmsh mesh comes in the order its mesher made it, which
+     * scattered each cell's vertices over the whole vertex array and made
+     * assembly six times slower than on a generated grid of the same size
+     * (issue 16). Every mesh softface's own readers read goes through this
+     * (deal.II's serialised .vtu keeps its order); the generated cube is in
+     * grid order already.
+     *
+     * The boundary faces in @p faces are renumbered with the vertices. The
+     * result maps each new cell index to the cell's index in @p cells on
+     * entry, so messages can still name a cell as its file did.
+     */
     std::vector<unsigned int>
     order_for_locality(std::vector<Point<3>>    &vertices,
                        std::vector<CellData<3>> &cells,

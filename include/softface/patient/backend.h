@@ -5,6 +5,7 @@
 #include <softface/patient/pipeline.h>
 #include <softface/patient/surface.h>
 
+#include <cstddef>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -13,11 +14,15 @@ namespace softface
 {
   namespace Patient
   {
+    /// Raised when Backend or what it passes changes meaning.
+    constexpr std::size_t backend_version = 1;
+
     /**
      * The patient pipeline's entry points that the core calls. They need
      * ITK, VTK and CGAL, whose 50-odd shared libraries took 0.1 s and 32 MB
-     * of every softface process to load and relocate (`softface --help`:
-     * 0.52 s and 192 MB against 0.38 s and 160 MB without them), also for
+     * of every softface process to load and relocate (`softface --help`,
+     * median of 5: 0.52 s and 192 MB with them linked, 0.38 s and 160 MB
+     * without; both with Open MPI's local transport, process.h), also for
      * scenes that never touch a patient (issue 16). So the core does not
      * link libsoftface_patient.so: backend() loads it on first use. The
      * parameters of the patient subsections need none of those libraries
@@ -25,6 +30,12 @@ namespace softface
      */
     struct Backend
     {
+      /// What the core and the library were built with: a library from
+      /// another build is refused instead of called with other layouts.
+      std::size_t version            = backend_version;
+      std::size_t size_of_backend    = sizeof(Backend);
+      std::size_t size_of_parameters = sizeof(PatientParameters);
+
       /// build_patient_model() (pipeline.h).
       PatientModel (*build_patient_model)(const PatientParameters &,
                                           const std::vector<SegmentSeed> &,
@@ -55,10 +66,11 @@ namespace softface
     };
 
     /**
-     * The pipeline, loaded on the first call (from the library next to
-     * the core's, by the dynamic linker's search path, else from where the
-     * build put it). A library that cannot be loaded is an Error naming it
-     * and the loader's reason.
+     * The pipeline, loaded on the first call: libsoftface_patient.so next to
+     * the core library's file (a build's source/patient/ folder, or the same
+     * folder in a copy or install), else by the dynamic linker's search
+     * path. A library that cannot be loaded or comes from another build is
+     * an Error naming it and the reason.
      */
     const Backend &
     backend();
