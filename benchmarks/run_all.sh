@@ -4,12 +4,17 @@
 # benchmark with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation, plus
 # the seed's MTM precision study. Shows "case i of N, elapsed, estimate".
 #
-#   benchmarks/run_all.sh           full run (about two hours on 2 cores),
-#                                   writes doc/results/accuracy_vs_time.{md,csv,png}
+#   benchmarks/run_all.sh           full run (in 2026-11 about five hours of one
+#                                   core, most of it the references), writes
+#                                   doc/results/accuracy_vs_time.{md,csv,png}
 #                                   and doc/results/mtm_precision.{md,csv,png}
 #   benchmarks/run_all.sh --quick   coarser meshes, fewer settings (under 5
 #                                   minutes), writes build/benchmarks/accuracy/quick/results/
-#   benchmarks/run_all.sh --scenes cube_6mm,rotation_30deg   only these scenes
+#   benchmarks/run_all.sh --scenes cube_6mm,rotation_30deg   only these scenes;
+#                                   the reports keep the other scenes' results
+#   benchmarks/run_all.sh --jobs 2  two cases at once, each on one thread (the
+#                                   times then share the memory bandwidth; each
+#                                   scene's section states the load)
 #   benchmarks/run_all.sh --resume  run only cases whose .prm changed or that did
 #                                   not finish; reuse the other outputs
 #   benchmarks/run_all.sh --report-only   rewrite the reports from an earlier

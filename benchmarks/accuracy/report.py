@@ -105,23 +105,77 @@ def model_error_section(key, refs, linear_p2_rows, scene_rows, tightest):
     return md
 
 
+def scene_sections(path):
+    """The scene sections ('## title (`key`)' up to the next one or the plot)
+    of an earlier report, by scene key."""
+    sections, key = {}, None
+    if not os.path.exists(path):
+        return sections
+    for line in open(path).read().split("\n"):
+        if line.startswith("## ") and line.endswith("`)"):
+            key = line[line.rindex("(`") + 2:-2]
+            sections[key] = []
+        elif line.startswith("![") or line.startswith("## "):
+            key = None
+        if key is not None:
+            sections[key].append(line)
+    return sections
+
+
+def csv_rows(path):
+    if not os.path.exists(path):
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def number(text):
+    try:
+        return float(text)
+    except (TypeError, ValueError):
+        return None
+
+
 def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_rows, tightest,
-                   thresholds, models, elapsed, load=""):
+                   thresholds, models, run_lines, keep=()):
+    """The report of SCENES, in their order. RUN_LINES holds each run scene's line
+    on how it ran; the scenes whose keys are in KEEP were not run: they keep
+    their section, rows and plot from the report already in RESULTS (or are
+    left out if it has none)."""
+    md_path = os.path.join(results, "accuracy_vs_time.md")
+    csv_path = os.path.join(results, "accuracy_vs_time.csv")
+    kept_sections = scene_sections(md_path)
+    kept_rows = csv_rows(csv_path)
+    all_scenes = [s for s in scenes if s["key"] not in keep or s["key"] in kept_sections]
+
     fields = ["scene", "model", "setting", "n_tets", "n_vertices", "setup_s", "solve_s",
               "total_s", "iterations", "err_median", "err_p90", "err_p95", "err_max",
               "status", "message"]
-    with open(os.path.join(results, "accuracy_vs_time.csv"), "w", newline="") as f:
+    plotted = []
+    with open(csv_path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
         w.writeheader()
-        for r in reference_rows + linear_p2_rows + rows:
-            w.writerow(r)
+        for scene in all_scenes:
+            key = scene["key"]
+            if key in keep:
+                mine = [r for r in kept_rows if r["scene"] == key]
+                for r in mine:
+                    if r["model"] in models and number(r["err_p90"]) is not None:
+                        plotted.append(dict(scene=key, model=r["model"],
+                                            total_s=number(r["total_s"]),
+                                            err_p90=number(r["err_p90"])))
+            else:
+                mine = [r for r in reference_rows + linear_p2_rows + rows if r["scene"] == key]
+                plotted += [r for r in rows if r["scene"] == key and "err_p90" in r]
+            for r in mine:
+                w.writerow(r)
 
     md = ["# What accuracy costs in time", "",
-          f"Made by `{command}` in {elapsed / 60:.1f} min on {machine()}; "
-          "one softface process per case, run one after the other, on one thread "
-          "(`Models/Threads = 1`; OpenBLAS and ML single-threaded). Times are softface's own "
-          "setup and solve wall times of the model (mesh generation and file output "
-          f"excluded).{load}", "",
+          "One softface process per case, on one thread (`Models/Threads = 1`; OpenBLAS "
+          "and ML single-threaded). Times are softface's own setup and solve wall times of "
+          "the model (mesh generation and file output excluded). Each scene's section says "
+          "how and when it was run: the scenes can be run apart (`--scenes`), and with "
+          "`--jobs 2` two cases run at once and share the machine's memory bandwidth.", "",
           "Errors are |u - u_ref| in mm at the free vertices of the coarsest mesh "
           "(every run evaluated there by its shape functions), against the reference: "
           "nonlinear FEM (compressible Neo-Hooke, the same Young's modulus and Poisson's "
@@ -135,9 +189,12 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
           "error; the mass spring model is a different material altogether.", "",
           "Every run is in `accuracy_vs_time.csv`.", ""]
 
-    for scene in scenes:
+    for scene in all_scenes:
         key = scene["key"]
-        md += [f"## {scene['title']} (`{key}`)", ""]
+        if key in keep:
+            md += kept_sections[key]
+            continue
+        md += [f"## {scene['title']} (`{key}`)", "", run_lines[key], ""]
         refs = [r for r in reference_rows if r["scene"] == key]
         scene_rows = [r for r in rows if r["scene"] == key and "err_p90" in r]
         md += ["### Reference", "",
@@ -216,12 +273,13 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
     md += ["![error against time](accuracy_vs_time.png)", "",
            "Plot: 90th-percentile error against setup + solve time, every run a marker, "
            "each model's Pareto front a line; dashed lines at the table's accuracies.", ""]
-    with open(os.path.join(results, "accuracy_vs_time.md"), "w") as f:
+    with open(md_path, "w") as f:
         f.write("\n".join(md))
 
-    fig, axes = plt.subplots(1, len(scenes), figsize=(5.5 * len(scenes), 4.6), squeeze=False)
-    for ax, scene in zip(axes[0], scenes):
-        scene_rows = [r for r in rows if r["scene"] == scene["key"] and "err_p90" in r]
+    fig, axes = plt.subplots(1, len(all_scenes), figsize=(5.5 * len(all_scenes), 4.6),
+                             squeeze=False)
+    for ax, scene in zip(axes[0], all_scenes):
+        scene_rows = [r for r in plotted if r["scene"] == scene["key"]]
         for model in models:
             runs = [r for r in scene_rows if r["model"] == model]
             if not runs:
@@ -243,9 +301,30 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
     fig.savefig(os.path.join(results, "accuracy_vs_time.png"), dpi=110)
 
 
-def write_precision(results, command, precision):
+def write_precision(results, command, scenes, precision, keep=()):
+    """The MTM precision study of SCENES, in their order: PRECISION holds the
+    run ones; those whose keys are in KEEP keep their row and history from
+    the report already in RESULTS (or are left out if it has none)."""
+    md_path = os.path.join(results, "mtm_precision.md")
+    csv_path = os.path.join(results, "mtm_precision.csv")
+    old_md = open(md_path).read().split("\n") if os.path.exists(md_path) else []
+    old_rows = csv_rows(csv_path)
+    kept = {}
+    for s in scenes:
+        line = next((x for x in old_md if x.startswith(f"| {s['title']} |")), None)
+        history = [[float(r[c]) for c in ("sweep", "precision_min_mm", "precision_mean_mm",
+                                           "max_gradient_mm_per_sweep")]
+                   for r in old_rows if r["scene"] == s["key"]]
+        if s["key"] in keep and line is not None:
+            kept[s["key"]] = dict(scene=s, line=line, ok=bool(history),
+                                  tets=next((r["n_tets_target"] for r in old_rows
+                                             if r["scene"] == s["key"]), ""),
+                                  history=np.array(history) if history else None)
+    precision = {s["key"]: kept.get(s["key"], precision.get(s["key"])) for s in scenes
+                 if s["key"] in kept or s["key"] in precision}
     md = ["# Precision of the mass tensor model (seed 2.3.5, Table 1, Fig. 1)", "",
-          f"Made by `{command}` on {machine()}.", "",
+          f"Made by `{command}` on {machine()}; a scene run apart (`--scenes`) keeps the "
+          "others' rows from their last run (accuracy_vs_time.md says when each ran).", "",
           "The MTM is swept with every free point updated in every sweep (Gauss-Seidel, no "
           "active set) until all gradients fall below 1e-5 mm per sweep; after every sweep "
           "softface measures the distance of each free point to the converged answer of the "
@@ -258,6 +337,12 @@ def write_precision(results, command, precision):
           "|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
     rows = []
     for key, p in precision.items():
+        if p["history"] is not None:
+            for h in p["history"]:
+                rows.append([key, p["tets"], int(h[0]), h[1], h[2], h[3]])
+        if "line" in p:
+            md.append(p["line"])
+            continue
         if not p["ok"]:
             md.append(f"| {p['scene']['title']} | {p['tets']} | | failed: {p['message']} "
                       "| | | | | |")
@@ -279,14 +364,21 @@ def write_precision(results, command, precision):
                   f"{int(sweep[i01]) if i01 is not None else '-'} | "
                   f"{int(sweep[ig]) if ig is not None else '-'} | "
                   f"{fmt(pmin[ig]) if ig is not None else '-'} |")
-        for j in range(len(sweep)):
-            rows.append([key, p["tets"], int(sweep[j]), pmin[j], pmean[j], gmax[j]])
+    # Which run made each row: the rows of a scene run apart may come from another
+    # version of softface than the others' (its defaults change the sweeps).
+    sections = scene_sections(os.path.join(results, "accuracy_vs_time.md"))
+    made = []
+    for key, p in precision.items():
+        line = next((x for x in sections.get(key, []) if x.startswith("Made by")), None)
+        if line:
+            made.append(f"- {p['scene']['title']}: {line}")
+    md += [""] + made if made else []
     md += ["", "The seed (five patients, Table 1) found P_min < 0.3 mm when G_max fell "
            "below 0.001 and P_mean about 0.039 mm there.", "",
            "![precision against sweeps](mtm_precision.png)", ""]
-    with open(os.path.join(results, "mtm_precision.md"), "w") as f:
+    with open(md_path, "w") as f:
         f.write("\n".join(md))
-    with open(os.path.join(results, "mtm_precision.csv"), "w", newline="") as f:
+    with open(csv_path, "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["scene", "n_tets_target", "sweep", "precision_min_mm",
                     "precision_mean_mm", "max_gradient_mm_per_sweep"])
@@ -298,9 +390,11 @@ def write_precision(results, command, precision):
         if not p["ok"]:
             continue
         h = p["history"]
-        axes[0].semilogy(h[:, 0], h[:, 1], label=f"{p['scene']['title']}: P_min")
-        axes[0].semilogy(h[:, 0], h[:, 2], ls="--", label=f"{p['scene']['title']}: P_mean")
-        axes[1].loglog(h[10:, 3], h[10:, 1], label=p["scene"]["title"])
+        # A kept row is marked: it may come from another version of softface.
+        title = p["scene"]["title"] + (" (earlier run)" if key in keep else "")
+        axes[0].semilogy(h[:, 0], h[:, 1], label=f"{title}: P_min")
+        axes[0].semilogy(h[:, 0], h[:, 2], ls="--", label=f"{title}: P_mean")
+        axes[1].loglog(h[10:, 3], h[10:, 1], label=title)
     axes[0].axhline(0.3, color="red", lw=0.8)
     axes[0].set_xlabel("sweep")
     axes[0].set_ylabel("precision (mm)")

@@ -32,10 +32,10 @@ doc/results/ (the quick mode to build/benchmarks/accuracy/quick/results/).
 """
 
 import argparse
-import csv
 import os
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
@@ -180,19 +180,27 @@ def error_statistics(values, reference):
 
 
 class Progress:
+    """'case i of N, elapsed, estimate' from the cost of the cases finished."""
+
     def __init__(self, total_cost):
         self.total, self.done, self.start, self.i, self.n = total_cost, 0., time.time(), 0, 0
 
+    def elapsed(self):
+        return f"elapsed {(time.time() - self.start) / 60:.1f} min"
+
     def step(self, label, cost):
         self.i += 1
-        elapsed = time.time() - self.start
+        print(f"[{self.i}/{self.n}] {label} ({self.elapsed()})", flush=True)
+        self.done += cost
+
+    def finish(self, label, cost):
+        self.done += cost
         estimate = ""
-        if self.done > 0:
+        if 0 < self.done < self.total:
+            elapsed = time.time() - self.start
             remaining = elapsed / self.done * (self.total - self.done)
             estimate = f", about {remaining / 60:.1f} min left"
-        print(f"[{self.i}/{self.n}] {label} (elapsed {elapsed / 60:.1f} min{estimate})",
-              flush=True)
-        self.done += cost
+        print(f"    done: {label} ({self.elapsed()}{estimate})", flush=True)
 
 
 def run_finished(output):
@@ -200,22 +208,43 @@ def run_finished(output):
     return bool(summary.read(os.path.join(output, "summary.csv")))
 
 
-def run_softface(prm, output, report_only=False):
-    """Run one case (its log goes to OUTPUT.log), or with report_only take an
-    earlier run's; returns (ok, error). The outcome is read from the case's
-    summary.csv; a run that wrote none stopped on its input, whose one-line
-    error is the last line of its log."""
+# How the runs of this invocation are recorded with each case: the command
+# and the commit softface was built from (set by main()).
+RUN_RECORD = ""
+# The softface processes running now, so that an interrupted run can end them.
+RUNNING, RUNNING_LOCK = set(), threading.Lock()
+
+
+def run_softface(prm, output):
+    """Run one case; its log goes to OUTPUT.log, the machine's load as it
+    starts to OUTPUT.load, and its wall time with this invocation's command
+    and commit to OUTPUT.wall."""
+    with open(output + ".load", "w") as f:
+        # The 1-minute load average: 1 is this run alone.
+        f.write(f"{os.getloadavg()[0]:.2f}\n")
+    start = time.time()
+    with open(output + ".log", "w") as out:
+        process = subprocess.Popen([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
+        with RUNNING_LOCK:
+            RUNNING.add(process)
+        try:
+            process.wait()
+        finally:
+            with RUNNING_LOCK:
+                RUNNING.discard(process)
+    if process.returncode < 0:           # ended by a signal: no record of a finished run
+        return
+    with open(output + ".wall", "w") as f:
+        f.write(f"{time.time() - start:.1f}\t{RUN_RECORD}\n")
+
+
+def case_outcome(output):
+    """(ok, error) of a case's run, from its summary.csv; a run that wrote
+    none stopped on its input, whose one-line error is the last line of its
+    log."""
     log = output + ".log"
-    if not report_only:
-        # The machine's load as the case starts: 1 is this run alone.
-        with open(output + ".load", "w") as f:
-            f.write(f"{os.getloadavg()[0]:.2f}\n")
-    if report_only:
-        if not os.path.exists(log):
-            sys.exit(f"--report-only: no earlier run of {prm} (missing {log})")
-    else:
-        with open(log, "w") as out:
-            subprocess.run([SOFTFACE, prm], stdout=out, stderr=subprocess.STDOUT)
+    if not os.path.exists(log):
+        sys.exit(f"no run of {output}.prm (missing {log}); run without --report-only")
     rows = summary.read(os.path.join(output, "summary.csv"))
     if not rows:
         lines = [line for line in open(log) if line.startswith("softface: error:")]
@@ -224,19 +253,35 @@ def run_softface(prm, output, report_only=False):
     return not failed, "; ".join(r["error"] for r in failed)
 
 
-def load_text(work):
-    """The machine's 1-minute load average as the cases started (this run
-    alone makes it about 1; other work on the machine adds to it)."""
-    loads = []
-    for folder, _, files in os.walk(work):
-        for name in files:
-            if name.endswith(".load"):
-                loads.append(float(open(os.path.join(folder, name)).read()))
-    if not loads:
-        return ""
-    return (f" The machine's load average (1 minute) as the {len(loads)} cases started: "
-            f"median {np.median(loads):.2f}, maximum {max(loads):.2f} (this run alone is "
-            "about 1 on 2 cores; more means other work shared the machine).")
+def run_text(scene_cases):
+    """How a scene's cases ran, from the records their runs left (OUTPUT.wall
+    and OUTPUT.load): their number and wall time, the commands and commits
+    that ran them and the machine's 1-minute load average as each started (a
+    run alone makes it about 1 on this 2-core machine; more means other work,
+    or --jobs, shared it)."""
+    loads, walls, records, last, missing = [], [], [], 0., 0
+    for case in scene_cases:
+        wall, load = case["output"] + ".wall", case["output"] + ".load"
+        if not os.path.exists(wall):
+            missing += 1
+            continue
+        fields = open(wall).read().rstrip("\n").split("\t")
+        walls.append(float(fields[0]))
+        record = fields[1] if len(fields) > 1 else "an earlier version of this benchmark"
+        if record not in records:
+            records.append(record)
+        last = max(last, os.path.getmtime(wall))
+        if os.path.exists(load):
+            loads.append(float(open(load).read()))
+    day = time.strftime("%Y-%m-%d", time.localtime(last)) if last else "?"
+    text = (f"Made by {'; '.join(records) or '?'} on {report.machine()}, finished {day}: "
+            f"{len(walls)} softface runs took {sum(walls) / 60:.1f} min of wall time in all")
+    if missing:
+        text += f" ({missing} cases have no record of their run)"
+    if loads:
+        text += (f"; the machine's load average (1 minute) as they started: median "
+                 f"{np.median(loads):.2f}, maximum {max(loads):.2f} (one run alone is about 1)")
+    return text + "."
 
 
 def summary_row(output, model):
@@ -253,13 +298,133 @@ def free_points(points):
     return points[~on_outer & ~in_bone]
 
 
+def case_name(case, config):
+    kind, model, tets = case["kind"], case["model"], case["tets"]
+    name = f"{kind}_{file_name_of(model)}_{tets}"
+    if kind == "reference":
+        name = f"{kind}_graded{config['reference_grading']}_{tets}"
+    if kind == "model error":
+        name = f"linear_p2_graded{config['reference_grading']}_{tets}"
+    if kind == "sweep":
+        name += "_" + "_".join(v for _, v in knob_pairs(case["setting"]))
+    return name
+
+
+def case_label(case):
+    key, kind, model, tets = case["scene"]["key"], case["kind"], case["model"], case["tets"]
+    label = f"{key}: {kind} {model}, {tets} tets"
+    if kind == "model error":
+        label = f"{key}: model error, linear elasticity on quadratic tetrahedra, {tets} tets"
+    if kind == "sweep":
+        label += ", " + knob_text(case["setting"])
+    return label
+
+
+# Peak memory per tetrahedron, bytes (the 16.7 mm lift's 280k-tetrahedron
+# reference took 10.2 GB), so that --jobs never runs two cases whose sum
+# would not fit: a process killed for memory would count as a failed case.
+MEMORY_PER_TET = {"reference": 40e3, "model error": 40e3, "precision": 10e3,
+                  "nonlinear fem": 4e3}
+
+
+def memory_estimate(case):
+    kind = case["kind"]
+    return case["tets"] * MEMORY_PER_TET.get(case["model"] if kind == "sweep" else kind, 2e3)
+
+
+def memory_budget():
+    """Bytes the cases may use together: 80% of the machine's memory."""
+    for line in open("/proc/meminfo"):
+        if line.startswith("MemTotal:"):
+            return 0.8 * int(line.split()[1]) * 1024
+    return float("inf")
+
+
+def run_cases(todo, jobs, progress):
+    """Run the cases of TODO (each a softface process on one thread), JOBS at a
+    time. Each worker takes the most expensive waiting case whose memory
+    estimate fits beside the running ones (a case runs alone if it fits with
+    none), so the last to finish is a short one and two large references never
+    share the machine. A failure of the driver or Ctrl-C ends the running
+    processes and starts no other case."""
+    pending = sorted(todo, key=lambda c: -c["cost"]) if jobs > 1 else list(todo)
+    budget, state = memory_budget(), dict(used=0., running=0, error=None)
+    cond = threading.Condition()
+
+    def take():
+        with cond:
+            while True:
+                if state["error"] is not None or not pending:
+                    return None
+                for case in pending:
+                    need = memory_estimate(case)
+                    if state["running"] == 0 or state["used"] + need <= budget:
+                        pending.remove(case)
+                        state["used"] += need
+                        state["running"] += 1
+                        return case
+                cond.wait()
+
+    def worker():
+        while True:
+            case = take()
+            if case is None:
+                return
+            try:
+                with cond:
+                    progress.step(case["label"] + " started", 0)
+                run_softface(case["prm"], case["output"])
+                if state["error"] is None:
+                    ok, message = case_outcome(case["output"])
+                    with cond:
+                        progress.finish(case["label"] + ("" if ok else f": failed, {message}"),
+                                        case["cost"])
+            except BaseException as error:    # noqa: B902 (also SystemExit of case_outcome)
+                with cond:
+                    state["error"] = state["error"] or error
+            finally:
+                with cond:
+                    state["used"] -= memory_estimate(case)
+                    state["running"] -= 1
+                    cond.notify_all()
+
+    def stop(error):
+        with cond:
+            state["error"] = state["error"] or error
+            cond.notify_all()
+        with RUNNING_LOCK:
+            for process in RUNNING:
+                process.terminate()
+
+    threads = [threading.Thread(target=worker, daemon=True) for _ in range(jobs)]
+    for t in threads:
+        t.start()
+    try:
+        for t in threads:
+            while t.is_alive():
+                t.join(timeout=1.)
+                if state["error"] is not None:
+                    stop(state["error"])
+    except KeyboardInterrupt as interrupt:
+        stop(interrupt)
+        for t in threads:
+            t.join()
+    if state["error"] is not None:
+        raise state["error"]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true",
                         help="coarser meshes and fewer settings (under 5 minutes)")
     parser.add_argument("--scenes", default="",
-                        help="comma-separated scene keys to run (default: all)")
+                        help="comma-separated scene keys to run (default: all); the reports "
+                        "keep the other scenes' sections, rows and plots from their last run")
+    parser.add_argument("--jobs", type=int, default=1,
+                        help="cases run at once, each on one thread (default 1; 2 uses both "
+                        "cores of a 2-core machine: the times then share memory bandwidth, "
+                        "and the reports state the load)")
     parser.add_argument("--report-only", action="store_true",
                         help="no softface runs: rewrite the reports from the outputs an "
                         "earlier run left in build/benchmarks/accuracy/")
@@ -267,14 +432,27 @@ def main():
                         help="run only the cases whose parameter file changed or whose "
                         "earlier run did not finish; reuse the others' outputs")
     args = parser.parse_args()
+    if args.jobs < 1:
+        sys.exit(f"--jobs {args.jobs}: give 1 or more")
     config = QUICK if args.quick else FULL
     work = os.path.join(ROOT, "build", "benchmarks", "accuracy",
                         "quick" if args.quick else "full")
     results = (os.path.join(work, "results") if args.quick
                else os.path.join(ROOT, "doc", "results"))
     os.makedirs(results, exist_ok=True)
-    scenes = [s for s in SCENES if not args.scenes or s["key"] in args.scenes.split(",")]
-    command = "benchmarks/run_all.sh" + (" --quick" if args.quick else "")
+    keys = [s["key"] for s in SCENES]
+    chosen = [k for k in args.scenes.split(",") if k] if args.scenes else keys
+    unknown = [k for k in chosen if k not in keys]
+    if unknown:
+        sys.exit(f"--scenes: unknown scene {', '.join(unknown)} (known: {', '.join(keys)})")
+    scenes = [s for s in SCENES if s["key"] in chosen]
+    command = ("benchmarks/run_all.sh" + (" --quick" if args.quick else "")
+               + (f" --scenes {','.join(chosen)}" if args.scenes else "")
+               + (f" --jobs {args.jobs}" if args.jobs > 1 else ""))
+    global RUN_RECORD
+    commit = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"],
+                            capture_output=True, text=True).stdout.strip() or "?"
+    RUN_RECORD = f"`{command}` (softface built from {commit})"
 
     # Every case, in order: points, references (finest last), linear P2 on
     # the two finest reference meshes, sweep, precision.
@@ -298,9 +476,6 @@ def main():
                                       settings=BASE_SETTINGS[model] + knob_pairs(setting)))
         cases.append(dict(scene=scene, kind="precision", model="mass tensor",
                           tets=config["precision_mesh"]))
-    progress = Progress(sum(c["tets"] * COST[c["model"] if c["kind"] == "sweep" else c["kind"]]
-                            for c in cases))
-    progress.n = len(cases)
     # Each model's tightest setting: the one that shows its discretisation.
     tightest = {model: knob_text(config["settings"][model][-1]) for model in MODELS}
 
@@ -314,33 +489,23 @@ def main():
                      "would run; run without --report-only (or with --resume)")
         return args.report_only or (args.resume and unchanged and run_finished(output))
 
-    rows, reference_rows, linear_p2_rows, precision = [], [], [], {}
-    points_file, reference_values = {}, {}
+    # 1. Parameter files. The evaluation points of a scene are run here:
+    # every other case of the scene names their file.
+    points_file, todo = {}, []
     for case in cases:
-        scene, key = case["scene"], case["scene"]["key"]
-        kind, model, tets = case["kind"], case["model"], case["tets"]
+        scene, key, kind = case["scene"], case["scene"]["key"], case["kind"]
         folder = os.path.join(work, key)
         os.makedirs(folder, exist_ok=True)
-        name = f"{kind}_{file_name_of(model)}_{tets}"
-        if kind == "reference":
-            name = f"{kind}_graded{config['reference_grading']}_{tets}"
-        if kind == "model error":
-            name = f"linear_p2_graded{config['reference_grading']}_{tets}"
-        if kind == "sweep":
-            name += "_" + "_".join(v for _, v in knob_pairs(case["setting"]))
-        output = os.path.join(folder, name)
+        output = os.path.join(folder, case_name(case, config))
         prm = output + ".prm"
-        label = f"{key}: {kind} {model}, {tets} tets"
-        if kind == "model error":
-            label = f"{key}: model error, linear elasticity on quadratic tetrahedra, {tets} tets"
-        if kind == "sweep":
-            label += ", " + knob_text(case["setting"])
-        progress.step(label, tets * COST[model if kind == "sweep" else kind])
-
+        case.update(output=output, prm=prm, label=case_label(case),
+                    cost=case["tets"] * COST[case["model"] if kind == "sweep" else kind])
         if kind == "points":
-            unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
-                                  nodal=True)
-            ok, message = run_softface(prm, output, reuse(unchanged, output))
+            unchanged = write_prm(prm, scene, case["model"], case["tets"], case["settings"],
+                                  output, nodal=True)
+            if not reuse(unchanged, output):
+                run_softface(prm, output)
+            ok, message = case_outcome(output)
             if not ok:
                 sys.exit(f"the evaluation-point run failed: {message} (log {output}.log)")
             points, _ = read_values(os.path.join(output, "displacements_linear_fem.csv"))
@@ -348,35 +513,46 @@ def main():
             points_file[key] = os.path.join(folder, "evaluation_points.csv")
             np.savetxt(points_file[key], points, delimiter=",", header="x,y,z",
                        comments="", fmt="%.12g")
-            print(f"    {len(points)} evaluation points (free vertices of the "
-                  f"{tets}-tetrahedron mesh)", flush=True)
+            print(f"{key}: {len(points)} evaluation points (free vertices of the "
+                  f"{case['tets']}-tetrahedron mesh)", flush=True)
             continue
-
         if kind == "precision":
-            history = output + "_history.csv"
+            case["history"] = output + "_history.csv"
             settings = [("Stop gradient threshold", "1e-5"), ("Active set", "false"),
-                        ("Maximum sweeps", "100000"), ("Precision history file", history)]
-            unchanged = write_prm(prm, scene, model, tets, settings, output)
-            ok, message = run_softface(prm, output, reuse(unchanged, output))
-            row = summary_row(output, model)
-            precision[key] = dict(scene=scene, tets=tets, ok=ok, message=message,
-                                  vertices=row["n_vertices"] if row else "",
-                                  history=np.loadtxt(history, delimiter=",", skiprows=1,
-                                                     ndmin=2) if ok else None)
-            # A scene is complete: write what is done so far.
-            finished = [sc for sc in scenes if sc["key"] in precision]
-            report.write_accuracy(results, command, finished, rows, reference_rows,
-                                  linear_p2_rows, tightest, THRESHOLDS, MODELS,
-                                  time.time() - progress.start, load_text(work))
-            report.write_precision(results, command, precision)
-            continue
+                        ("Maximum sweeps", "100000"), ("Precision history file",
+                                                       case["history"])]
+            unchanged = write_prm(prm, scene, case["model"], case["tets"], settings, output)
+        else:
+            unchanged = write_prm(prm, scene, case["model"], case["tets"], case["settings"],
+                                  output, points=points_file[key],
+                                  grading=config["reference_grading"] if kind != "sweep" else 1,
+                                  symmetric=(kind != "sweep"))
+        if not reuse(unchanged, output):
+            todo.append(case)
 
-        unchanged = write_prm(prm, scene, model, tets, case["settings"], output,
-                  points=points_file[key],
-                  grading=config["reference_grading"] if kind != "sweep" else 1,
-                  symmetric=(kind != "sweep"))
-        ok, message = run_softface(prm, output, reuse(unchanged, output))
+    # 2. The runs.
+    progress = Progress(sum(c["cost"] for c in todo))
+    progress.n = len(todo)
+    if todo:
+        print(f"{len(todo)} of {len(cases)} cases to run, {args.jobs} at a time", flush=True)
+    run_cases(todo, args.jobs, progress)
+
+    # 3. The reports, from the cases' outputs.
+    rows, reference_rows, linear_p2_rows, precision = [], [], [], {}
+    reference_values = {}
+    for case in cases:
+        key, kind, model, tets = case["scene"]["key"], case["kind"], case["model"], case["tets"]
+        output = case["output"]
+        if kind == "points":
+            continue
+        ok, message = case_outcome(output)
         row = summary_row(output, model)
+        if kind == "precision":
+            precision[key] = dict(scene=case["scene"], tets=tets, ok=ok, message=message,
+                                  vertices=row["n_vertices"] if row else "",
+                                  history=np.loadtxt(case["history"], delimiter=",",
+                                                     skiprows=1, ndmin=2) if ok else None)
+            continue
         values_path = os.path.join(output, f"evaluation_{file_name_of(model)}.csv")
         entry = dict(scene=key, model={"sweep": model, "reference": "reference (P2 neo-hooke)",
                                        "model error": "linear elasticity (P2)"}[kind],
@@ -392,15 +568,11 @@ def main():
         if kind == "model error":
             entry["values"] = read_values(values_path)[1] if ok and row else None
             linear_p2_rows.append(entry)
-            if entry["values"] is None:
-                print(f"    failed: {message}", flush=True)
             continue
         if kind == "reference":
             entry["n_dofs"] = row["n_dofs"] if row else ""
             entry["values"] = read_values(values_path)[1] if ok and row else None
             reference_rows.append(entry)
-            if entry["values"] is None:
-                print(f"    reference failed: {message}", flush=True)
             if tets == reference_meshes(config, key)[-1]:
                 # The finest reference that converged scores the sweep.
                 done = [r for r in reference_rows if r["scene"] == key and r["values"] is not None]
@@ -415,30 +587,35 @@ def main():
         elif ok and row:
             entry["message"] = "no converged reference"
         rows.append(entry)
-        if "err_p90" in entry:
-            print(f"    {entry['total_s']:.3f} s, error p90 {entry['err_p90']:.3f} mm, "
-                  f"max {entry['err_max']:.3f} mm", flush=True)
-        elif not ok:
-            print(f"    failed: {message}", flush=True)
 
-    # The reports state how long the runs took, also when rewritten later.
-    info = os.path.join(work, "run_time_s.txt")
-    earlier = float(open(info).read()) if os.path.exists(info) else float("nan")
-    if args.report_only:
-        elapsed = earlier
-    else:
-        # A resumed run adds its time to the run it completes.
-        elapsed = time.time() - progress.start
-        if args.resume and earlier == earlier:
-            elapsed += earlier
-        with open(info, "w") as f:
-            f.write(f"{elapsed:.1f}\n")
-    report.write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_rows,
-                          tightest, THRESHOLDS, MODELS, elapsed, load_text(work))
-    report.write_precision(results, command, precision)
-    print(f"done in {elapsed / 60:.1f} min; results in {results}/ "
+    # What each scene's run cost, from its cases' records (also when resumed
+    # or rewritten later), and whether its finest reference converged.
+    runs = {}
+    for scene in scenes:
+        key = scene["key"]
+        runs[key] = run_text([c for c in cases if c["scene"]["key"] == key
+                              and c["kind"] != "points"])
+        finest = reference_meshes(config, key)[-1]
+        used = next((r for r in reference_rows if r["scene"] == key and r.get("used")), None)
+        if used is not None and used["level"] != finest:
+            warning = (f"The finest reference ({finest} tetrahedra) failed: this scene's errors "
+                       f"are against the {used['level']}-tetrahedron one.")
+            print(f"warning: {key}: {warning}", flush=True)
+            runs[key] += f" **{warning}**"
+    # A run of some scenes keeps the others' results (full mode only: the
+    # quick results are a folder of their own).
+    shown = scenes if args.quick else SCENES
+    keep = {s["key"] for s in shown if s not in scenes}
+    report.write_accuracy(results, command, shown, rows, reference_rows, linear_p2_rows,
+                          tightest, THRESHOLDS, MODELS, runs, keep)
+    report.write_precision(results, command, shown, precision, keep)
+    print(f"done in {(time.time() - progress.start) / 60:.1f} min; results in {results}/ "
           "(accuracy_vs_time.md/.csv/.png, mtm_precision.md/.csv/.png)", flush=True)
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except KeyboardInterrupt:
+        sys.exit("interrupted: the running cases were ended; --resume runs the rest and keeps "
+                 "the finished ones")
