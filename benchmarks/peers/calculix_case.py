@@ -2,9 +2,13 @@
 """CalculiX peer of softface's `linear fem` on a make_mesh.py cube (approach borrowed from
 benchmarks/calculix/make_case.py, but reading the existing .msh instead of meshing).
 
-usage: calculix_case.py prepare MESH.msh DIR   writes DIR/case.inp (+ DIR/nodes.npy), prints JSON
+usage: calculix_case.py prepare MESH.msh DIR [--nlgeom]
+                                               writes DIR/case.inp (+ DIR/nodes.npy), prints JSON
        calculix_case.py collect DIR OUT.csv    reads DIR/case.dat, writes x,y,z,ux,uy,uz, prints JSON
-The driver runs `ccx -i case` in DIR between the two (linear static, C3D4, default SPOOLES).
+The driver runs `ccx -i case` in DIR between the two (static, C3D4, default SPOOLES). With
+--nlgeom the step is geometrically nonlinear: *ELASTIC is then St. Venant-Kirchhoff. CalculiX's
+automatic incrementation starts at a tenth of the load; residual and correction tolerances 1e-9
+(as benchmarks/calculix/make_case.py).
 
 Conditions: nodes of physical surface 1 ("fixed"): u = 0; nodes of physical volume 2 ("bone",
 including its surface): u = (0, 0, 6). E = 3000, nu = 0.46 (the displacements do not depend on E).
@@ -21,7 +25,7 @@ def nset(f, name, tags):
         f.write(",".join(str(v) for v in tags[k:k + 16]) + "\n")
 
 
-def prepare(msh, out):
+def prepare(msh, out, nlgeom=False):
     import gmsh
     t0 = time.perf_counter()
     os.makedirs(out, exist_ok=True)
@@ -51,7 +55,12 @@ def prepare(msh, out):
         nset(f, "NFIX", fixed)
         nset(f, "NBONE", bone)
         f.write("*MATERIAL,NAME=TISSUE\n*ELASTIC\n%.6e,%.4f\n" % (E, NU))
-        f.write("*SOLID SECTION,ELSET=EALL,MATERIAL=TISSUE\n*STEP\n*STATIC\n")
+        f.write("*SOLID SECTION,ELSET=EALL,MATERIAL=TISSUE\n")
+        if nlgeom:
+            f.write("*STEP,NLGEOM,INC=1000\n*STATIC\n0.1,1.\n"
+                    "*CONTROLS,PARAMETERS=FIELD\n1.e-9,1.e-9,,,,,,\n")
+        else:
+            f.write("*STEP\n*STATIC\n")
         f.write("*BOUNDARY\nNFIX,1,3,0.\nNBONE,1,2,0.\nNBONE,3,3,%g\n" % UZ)
         # .dat has 7 significant digits (.frd only 6): read displacements from there.
         f.write("*NODE PRINT,NSET=NALL\nU\n*END STEP\n")
@@ -81,4 +90,5 @@ def collect(out, csv):
 
 if __name__ == "__main__":
     cmd, a, b = sys.argv[1:4]
-    print(json.dumps(prepare(a, b) if cmd == "prepare" else collect(a, b)))
+    print(json.dumps(prepare(a, b, "--nlgeom" in sys.argv[4:]) if cmd == "prepare" else
+                     collect(a, b)))

@@ -1,13 +1,16 @@
 #!/usr/bin/python3
-"""Peer benchmark driver: softface `linear fem` (cg amg) against FEniCSx (dolfinx) and CalculiX
-on the same gmsh cube meshes. Called by run.sh (see README.md).
+"""Peer benchmark driver: softface `linear fem` (cg amg) and `nonlinear fem` (St. Venant-Kirchhoff)
+against FEniCSx (dolfinx) and CalculiX on the same gmsh cube meshes. Called by run.sh (see
+README.md).
 
-usage: run.py --softface BIN --work DIR --results DIR --command "..." [--quick]
+usage: run.py --softface BIN --work DIR --results DIR --command "..." [--quick] [--passes ...]
 
-For each mesh and repetition it runs each program once (interleaved: rep 1 of every program, then
-rep 2, ...), one thread each, every run its own process under /usr/bin/time (peak RSS). After the
-first repetition of a mesh it compares every vertex displacement with softface's and stops with a
-non-zero exit if a peer differs by more than TOL_MM. Writes peers.md, peers.csv, peers.png.
+A pass is a law (linear, svk) on one thread or on all cores (softface's threads, FEniCSx's MPI
+ranks, CalculiX's threads). For each pass, mesh and repetition it runs each program once
+(interleaved: rep 1 of every program, then rep 2, ...), every run its own process under
+/usr/bin/time (peak RSS). After the first repetition of a mesh it compares every vertex
+displacement with softface's and stops with a non-zero exit if a peer differs by more than TOL_MM.
+Writes peers.md, peers.csv, peers.png.
 """
 import argparse, csv, datetime, json, os, platform, re, statistics, subprocess, sys, time
 import numpy as np
@@ -26,22 +29,42 @@ PROGRAMS = ["softface", "FEniCSx", "CalculiX"]
 COLUMNS = [("mesh read", ["mesh read"]),
            ("sparsity + assembly", ["sparsity", "assemble", "eliminate join DoFs"]),
            ("preconditioner", ["preconditioner"]), ("solve", ["solve"])]
-ENV = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", DEAL_II_NUM_THREADS="1",
-           CCX_NPROC_EQUATION_SOLVER="1", CCX_NPROC_STIFFNESS="1", CCX_NPROC_RESULTS="1")
+CORES = os.cpu_count()
+# Passes: (law, cores); 1 is one thread, CORES every core of the machine.
+PASSES = {"linear": ("linear", 1), "linear-all": ("linear", CORES), "svk": ("svk", 1),
+          "svk-all": ("svk", CORES)}
 
-MODELS = """  set Models = linear fem
+
+def environment(cores):
+    """One thread per process, or CORES threads (softface, CalculiX); FEniCSx runs one MPI rank
+    per core instead, each with one thread."""
+    n = str(cores)
+    return dict(os.environ, OMP_NUM_THREADS=n, OPENBLAS_NUM_THREADS="1", DEAL_II_NUM_THREADS=n,
+                CCX_NPROC_EQUATION_SOLVER=n, CCX_NPROC_STIFFNESS=n, CCX_NPROC_RESULTS=n)
+
+
+ENV = environment(1)
+
+MODELS = {"linear": """  set Models = linear fem
   subsection linear fem
     set Solver = cg amg
     set Relative tolerance = 1e-10
   end
-"""
+""", "svk": """  set Models = nonlinear fem
+  subsection nonlinear fem
+    set Material law = st venant-kirchhoff
+    set Solver = cg amg
+    set Residual tolerance = 1e-10
+  end
+"""}
+MODEL_NAME = {"linear": "linear_fem", "svk": "nonlinear_fem"}
 
 
-def timed(cmd, cwd, log):
+def timed(cmd, cwd, log, env=ENV):
     """Run cmd under /usr/bin/time; return (wall s, peak RSS MB, CPU s, stdout)."""
     tf = os.path.join(cwd, "time.txt")
     t0 = time.perf_counter()
-    r = subprocess.run(["/usr/bin/time", "-f", "%M %U %S", "-o", tf] + cmd, cwd=cwd, env=ENV,
+    r = subprocess.run(["/usr/bin/time", "-f", "%M %U %S", "-o", tf] + cmd, cwd=cwd, env=env,
                        capture_output=True, text=True)
     wall = time.perf_counter() - t0
     open(os.path.join(cwd, log), "w").write(r.stdout + r.stderr)
@@ -51,36 +74,58 @@ def timed(cmd, cwd, log):
     return wall, int(rss) / 1024, float(usr) + float(sys_), r.stdout
 
 
-def run_softface(binary, mesh, d):
+def run_softface(binary, mesh, d, law="linear", cores=1):
     os.makedirs(d, exist_ok=True)
-    open(os.path.join(d, "scene.prm"), "w").write(cube_scene(os.path.join(d, "out"), mesh=mesh, models=MODELS,
+    open(os.path.join(d, "scene.prm"), "w").write(cube_scene(os.path.join(d, "out"), mesh=mesh, models=MODELS[law],
                    output="  set Write nodal displacements = true\n"))
-    wall, rss, cpu, out = timed([binary, "scene.prm"], d, "softface.log")
+    wall, rss, cpu, out = timed([binary, "scene.prm"], d, "softface.log", environment(cores))
     ph = {"mesh read": float(re.search(r"free DoFs \(([\d.]+) s\)", out).group(1))}
     row = next(csv.DictReader(open(os.path.join(d, "out", "summary.csv"))))
+    if row["status"] != "ok":
+        sys.exit(f"softface failed in {d}: {row['error']}")
     for kv in row["phases"].split(";"):
         k, v = kv.split("=")
         ph[k] = float(v)
-    return dict(phases=ph, wall=wall, rss=rss, cpu=cpu, iterations=int(row["iterations"]),
+    ph["model"] = float(row["setup_s"]) + float(row["solve_s"])
+    # The nonlinear model's iterations column counts Newton iterations; its details hold the
+    # linear ones (the linear model's column counts CG iterations).
+    details = dict(kv.split("=", 1) for kv in row["details"].split(";") if "=" in kv)
+    its, newton = int(row["iterations"]), None
+    if law == "svk":
+        its, newton = int(details["linear iterations"]), its
+    return dict(phases=ph, wall=wall, rss=rss, cpu=cpu, iterations=its, newton=newton,
                 residual=float(row["relative_residual"]),
-                csv=os.path.join(d, "out", "displacements_linear_fem.csv"))
+                csv=os.path.join(d, "out", f"displacements_{MODEL_NAME[law]}.csv"))
 
 
-def run_fenicsx(mesh, d):
+def run_fenicsx(mesh, d, law="linear", cores=1):
     os.makedirs(d, exist_ok=True)
-    wall, rss, cpu, out = timed([PY, os.path.join(HERE, "fenicsx_elasticity.py"), mesh, "u.csv"],
-                                d, "fenicsx.log")
+    cmd = [PY, os.path.join(HERE, "fenicsx_elasticity.py"), mesh, "u.csv", "--law", law]
+    if cores > 1:
+        cmd = ["mpirun", "-np", str(cores)] + (["--allow-run-as-root"] if os.geteuid() == 0 else []) + cmd
+    wall, rss, cpu, out = timed(cmd, d, "fenicsx.log", environment(1))
     j = json.loads(out.strip().splitlines()[-1])
-    return dict(phases=j["phases"], wall=wall, rss=rss, cpu=cpu, iterations=j["iterations"],
-                residual=j["relative_residual"], csv=os.path.join(d, "u.csv"))
+    ph = dict(j["phases"])
+    # The model: everything between reading the mesh and writing the answer, except the force
+    # that only the benchmark's common stop criterion needs (softface has it at hand).
+    ph["model"] = sum(v for k, v in j["phases"].items()
+                      if k not in ("import", "mesh read", "write", "in-process total",
+                                   "reference force"))
+    if law == "svk" and not j["converged_reason"]:
+        sys.exit(f"FEniCSx's Newton solver did not converge in {d}")
+    if cores > 1:
+        rss = j["peak_mb_all_ranks"]          # /usr/bin/time sees only the largest rank
+    return dict(phases=ph, wall=wall, rss=rss, cpu=cpu, iterations=j["iterations"],
+                newton=j["newton_iterations"], residual=j["relative_residual"],
+                csv=os.path.join(d, "u.csv"))
 
 
-def run_calculix(case_dir, d):
+def run_calculix(case_dir, d, cores=1):
     """ccx on the prepared case.inp (copied to d so the repetitions do not share files)."""
     os.makedirs(d, exist_ok=True)
     for f in ("case.inp", "nodes.npy"):
         subprocess.run(["cp", os.path.join(case_dir, f), d], check=True)
-    wall, rss, cpu, out = timed(["ccx", "-i", "case"], d, "ccx.log")
+    wall, rss, cpu, out = timed(["ccx", "-i", "case"], d, "ccx.log", environment(cores))
     if "Job finished" not in out or "*ERROR" in out:
         sys.exit(f"CalculiX failed in {d}")
     ccx_total = float(re.search(r"Total CalculiX Time:\s*([\d.eE+-]+)", out).group(1))
@@ -89,7 +134,7 @@ def run_calculix(case_dir, d):
     for ext in ("frd", "dat", "inp"):          # large; the CSV holds what we need
         os.remove(os.path.join(d, "case." + ext))
     return dict(phases={"ccx total (own timer)": ccx_total}, wall=wall, rss=rss, cpu=cpu,
-                iterations=None, residual=None, csv=os.path.join(d, "u.csv"))
+                iterations=None, newton=None, residual=None, csv=os.path.join(d, "u.csv"))
 
 
 def max_diff(ref_csv, peer_csv):
@@ -109,7 +154,13 @@ def main():
     ap.add_argument("--command", default="benchmarks/peers/run.sh")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--passes", default=",".join(PASSES),
+                    help="comma-separated, of " + ", ".join(PASSES) + " (default: all)")
     args = ap.parse_args()
+    passes = args.passes.split(",")
+    unknown = [p for p in passes if p not in PASSES]
+    if unknown or "linear" not in passes:
+        sys.exit(f"--passes: unknown {unknown} or no 'linear' (known: {', '.join(PASSES)})")
     meshes = MESHES[:1] if args.quick else MESHES
     reps = 1 if args.quick else args.reps
     W = args.work
@@ -119,8 +170,9 @@ def main():
     # the forms, ~1 s) and the page cache for all three programs' binaries and libraries.
     m0 = os.path.join(W, meshes[0][1])
     print("warm-up on", meshes[0][1], flush=True)
-    run_softface(args.softface, m0, os.path.join(W, "warmup", "softface"))
-    run_fenicsx(m0, os.path.join(W, "warmup", "fenicsx"))
+    for law in sorted({PASSES[p][0] for p in passes}):
+        run_softface(args.softface, m0, os.path.join(W, "warmup", "softface"), law)
+        run_fenicsx(m0, os.path.join(W, "warmup", "fenicsx"), law)
 
     # softface's fixed cost of a process: start it on a scene file that does not exist (it exits
     # with an error after loading its libraries); median of 3.
@@ -132,58 +184,69 @@ def main():
         startup.append(time.perf_counter() - t0)
         startup_mb.append(int(open(tf).read().split()[-1]) / 1024)
 
-    rows, runs, diffs = [], {}, {}
+    rows, runs, diffs, prepared = [], {}, {}, set()
     info = {"startup": statistics.median(startup), "startup_mb": statistics.median(startup_mb)}
     t_start = time.time()
-    for label, fname, _, with_ccx in meshes:
-        mesh = os.path.join(W, fname)
-        progs = PROGRAMS if with_ccx else PROGRAMS[:2]
-        if with_ccx:
-            case = os.path.join(W, label, "calculix_case")
-            info[label] = json.loads(subprocess.run(
-                [PY, os.path.join(HERE, "calculix_case.py"), "prepare", mesh, case],
-                check=True, capture_output=True, text=True).stdout)
-        for rep in range(1, reps + 1):
-            for prog in progs:
-                d = os.path.join(W, label, prog, f"rep{rep}")
-                load = open("/proc/loadavg").read().split()[0]
-                print(f"[{time.time() - t_start:6.0f} s] {label} rep {rep} {prog} (load {load})", flush=True)
-                r = (run_softface(args.softface, mesh, d) if prog == "softface" else
-                     run_fenicsx(mesh, d) if prog == "FEniCSx" else
-                     run_calculix(os.path.join(W, label, "calculix_case"), d))
-                r["load"] = float(load)
-                runs[(label, prog, rep)] = r
-                print(f"    whole process {r['wall']:.2f} s, peak {r['rss']:.0f} MB, CPU {r['cpu']:.2f} s, "
-                      f"iterations {r['iterations']}", flush=True)
-            if rep == 1:                       # agreement check on the first repetition
-                for prog in progs[1:]:
-                    dmax = max_diff(runs[(label, "softface", 1)]["csv"], runs[(label, prog, 1)]["csv"])
-                    diffs[(label, prog)] = dmax
-                    print(f"    max |u_softface - u_{prog}| = {dmax:.2e} mm", flush=True)
-                    if not dmax <= TOL_MM:
-                        sys.exit(f"DISAGREEMENT on {label}: {prog} differs from softface by {dmax:.3e} mm "
-                                 f"> {TOL_MM} mm")
-        import gmsh                            # mesh size for the report
-        gmsh.initialize(); gmsh.option.setNumber("General.Terminal", 0); gmsh.open(mesh)
-        info.setdefault(label, {})
-        info[label]["n_tets"] = int(sum(len(t) for t in gmsh.model.mesh.getElements(3)[1]))
-        info[label]["n_nodes"] = int(len(np.unique(gmsh.model.mesh.getElements(3)[2][0])))  # used nodes
-        gmsh.finalize()
+    for name in passes:
+        law, cores = PASSES[name]
+        for label, fname, _, with_ccx in meshes:
+            mesh = os.path.join(W, fname)
+            progs = PROGRAMS if with_ccx else PROGRAMS[:2]
+            case = os.path.join(W, label, f"calculix_case_{law}")
+            if with_ccx and case not in prepared:   # once per law and mesh in this run
+                subprocess.run([PY, os.path.join(HERE, "calculix_case.py"), "prepare", mesh, case]
+                               + (["--nlgeom"] if law == "svk" else []),
+                               check=True, capture_output=True, text=True)
+                prepared.add(case)
+            for rep in range(1, reps + 1):
+                for prog in progs:
+                    d = os.path.join(W, label, name, prog, f"rep{rep}")
+                    load = open("/proc/loadavg").read().split()[0]
+                    print(f"[{time.time() - t_start:6.0f} s] {name} {label} rep {rep} {prog} (load {load})",
+                          flush=True)
+                    r = (run_softface(args.softface, mesh, d, law, cores) if prog == "softface" else
+                         run_fenicsx(mesh, d, law, cores) if prog == "FEniCSx" else
+                         run_calculix(case, d, cores))
+                    r["load"] = float(load)
+                    runs[(name, label, prog, rep)] = r
+                    print(f"    whole process {r['wall']:.2f} s, peak {r['rss']:.0f} MB, CPU {r['cpu']:.2f} s, "
+                          f"iterations {r['iterations']}" +
+                          (f", Newton {r['newton']}" if r.get("newton") else ""), flush=True)
+                if rep == 1:                       # agreement check on the first repetition
+                    for prog in progs[1:]:
+                        dmax = max_diff(runs[(name, label, "softface", 1)]["csv"],
+                                        runs[(name, label, prog, 1)]["csv"])
+                        diffs[(name, label, prog)] = dmax
+                        print(f"    max |u_softface - u_{prog}| = {dmax:.2e} mm", flush=True)
+                        if not dmax <= TOL_MM:
+                            sys.exit(f"DISAGREEMENT on {label} ({name}): {prog} differs from softface by "
+                                     f"{dmax:.3e} mm > {TOL_MM} mm")
+            if label not in info:
+                import gmsh                        # mesh size for the report
+                gmsh.initialize(); gmsh.option.setNumber("General.Terminal", 0); gmsh.open(mesh)
+                info[label] = {}
+                info[label]["n_tets"] = int(sum(len(t) for t in gmsh.model.mesh.getElements(3)[1]))
+                info[label]["n_nodes"] = int(len(np.unique(gmsh.model.mesh.getElements(3)[2][0])))  # used nodes
+                gmsh.finalize()
     elapsed = time.time() - t_start
 
-    for (label, prog, rep), r in runs.items():
-        base = dict(program=prog, mesh=label, n_tets=info[label]["n_tets"],
+    for (name, label, prog, rep), r in runs.items():
+        law, cores = PASSES[name]
+        base = dict(program=prog, law=law, cores=cores, mesh=label, n_tets=info[label]["n_tets"],
                     n_vertices=info[label]["n_nodes"], rep=rep, load1=r["load"],
-                    iterations=r["iterations"], peak_mb=round(r["rss"], 1),
-                    max_diff_to_softface_mm=diffs.get((label, prog), 0.0 if prog == "softface" else ""))
+                    iterations=r["iterations"], newton_iterations=r.get("newton") or "",
+                    peak_mb=round(r["rss"], 1),
+                    max_diff_to_softface_mm=diffs.get((name, label, prog), 0.0 if prog == "softface" else ""))
         for ph, v in list(r["phases"].items()) + [("whole process", r["wall"]), ("cpu user+sys", r["cpu"])]:
             rows.append(dict(base, phase=ph, seconds=round(v, 4)))
     with open(os.path.join(args.results, "peers.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    report(args, meshes, reps, runs, diffs, info, elapsed)
-    plot(args, meshes, reps, runs)
+    one = {(l, p, k): r for (n, l, p, k), r in runs.items() if n == "linear"}
+    one_diffs = {(l, p): d for (n, l, p), d in diffs.items() if n == "linear"}
+    report(args, meshes, reps, one, one_diffs, info, elapsed, passes, runs, diffs)
+    plot(args, meshes, reps, one, passes, runs)
 
 
 def col(r, phases):
@@ -197,31 +260,42 @@ def stats(runs, label, prog, reps, f):
     return None if vals[0] is None else (min(vals), statistics.median(vals))
 
 
-def report(args, meshes, reps, runs, diffs, info, elapsed):
+def report(args, meshes, reps, runs, diffs, info, elapsed, passes, all_runs, all_diffs):
     cpu = next(l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name"))
-    fx = json.loads(open(os.path.join(args.work, "warmup", "fenicsx", "fenicsx.log")).read().strip().splitlines()[-1])
+    # The log holds stdout and then stderr (FFCx's JIT messages on a first run): the JSON line.
+    fx = json.loads(next(line for line in reversed(open(os.path.join(
+        args.work, "warmup", "fenicsx", "fenicsx.log")).read().splitlines()) if line.startswith("{")))
     ccxv = subprocess.run(["ccx", "-v"], capture_output=True, text=True).stdout.strip().splitlines()[-1].replace("This is ", "")
     git = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     dirty = subprocess.run(["git", "-C", HERE, "status", "--porcelain", "--untracked-files=no"],
                            capture_output=True, text=True).stdout.strip()
-    L = [f"# softface against FEniCSx and CalculiX: linear elasticity on the same meshes\n",
+    loads = [r["load"] for r in all_runs.values()]
+    shared = max(loads) > 1.5
+    L = ["# softface against FEniCSx and CalculiX: linear elasticity and St. Venant-Kirchhoff on the same meshes\n",
          f"Command: `{args.command.strip()}` ({elapsed / 60:.1f} min). Date: {datetime.datetime.now():%Y-%m-%d %H:%M}. "
          f"Machine: {cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}. "
-         f"softface: `linear fem`, `cg amg`, built from commit {git}{' with uncommitted changes' if dirty else ''}; "
-         f"FEniCSx: dolfinx {fx['dolfinx']} with PETSc {fx['petsc']} (Debian), one MPI rank; CalculiX: {ccxv} (Debian), SPOOLES.\n",
-         "**The machine was shared**: another engineer was compiling on its 2 cores during the runs, so absolute "
-         "times are noisy (the 1-minute load average before each run is in peers.csv, column `load1`). "
-         "Ratios measured in the same interleaved run are more robust than absolute figures.\n",
-         "## Problem and method\n",
+         f"softface built from commit {git}{' with uncommitted changes' if dirty else ''}; "
+         f"FEniCSx: dolfinx {fx['dolfinx']} with PETSc {fx['petsc']} (Debian); CalculiX: {ccxv} (Debian), SPOOLES.\n",
+         (f"**The machine was shared**: the 1-minute load average before the runs reached {max(loads):.1f} "
+          f"on {CORES} cores, so absolute times are noisy. " if shared else
+          f"The 1-minute load average before the runs: {min(loads):.2f} to {max(loads):.2f} on {CORES} cores "
+          "(the machine was otherwise idle). ") +
+         "The load before each run is in peers.csv, column `load1`. Ratios measured in the same interleaved run "
+         "are more robust than absolute figures.\n",
+         "Contents: linear elasticity on one thread (per phase), then on all cores, then St. Venant-Kirchhoff "
+         "(nonlinear) on one thread and on all cores.\n",
+         "## Problem and method (linear elasticity on one thread)\n",
          "The cube of `make_mesh.py`: box [0,80]^3 mm, inner box [35,45]^3 mm meshed conformingly; P1 tetrahedra, "
          "E = 3000, Poisson's ratio 0.46; u = 0 on every vertex of the six outer faces, u = (0, 0, 6) mm on every "
          "vertex of the inner box's cells. softface and FEniCSx: CG with algebraic multigrid (softface: Trilinos ML "
          "through deal.II; FEniCSx: hypre BoomerAMG with the settings in fenicsx_elasticity.py and the rigid-body "
          "near-nullspace; FEniCSx's times depend on these options, see benchmarks/peers/README.md), relative "
          "tolerance 1e-10. CalculiX: linear static, C3D4, SPOOLES direct solver; "
+         "each CG tests the unpreconditioned residual; "
          f"**CalculiX only on the 35k and 105k meshes** (about 164 s at 491k on this machine). "
          f"{reps} repetition(s), interleaved (repetition 1 of every program, then 2, ...), each run a separate "
-         "process with one thread (OMP_NUM_THREADS=1, CCX_NPROC_*=1, OPENBLAS_NUM_THREADS=1); an untimed warm-up "
+         "process with one thread (OMP_NUM_THREADS=1, CCX_NPROC_*=1, OPENBLAS_NUM_THREADS=1, FEniCSx one MPI "
+         "rank; the other passes are described in their sections); an untimed warm-up "
          "run of softface and FEniCSx on the 35k mesh first (fills FFCx's JIT cache). Whole process = wall time of "
          "the process measured by the driver; peak memory = maximum RSS from `/usr/bin/time -f %M`; phases are "
          "each program's own timers.\n",
@@ -263,11 +337,99 @@ def report(args, meshes, reps, runs, diffs, info, elapsed):
                     f"{med[(prog, i)] / med[('softface', i)]:.2f}x") for i in range(len(fns))]
             L.append(f"| *{prog} / softface* | " + " | ".join(rat[:-1]) + " | | " + rat[-1] + " | |")
         L.append("")
-    L.append("## What the numbers show\n")
+    L.append("## What the numbers show (linear, one thread)\n")
     L += summary(meshes, reps, runs, diffs, info)
-    L.append("Files: peers.csv (one row per program, mesh, repetition and phase, with load average, iterations, "
-             "peak memory and the agreement), peers.png (median phases stacked per program and mesh).\n")
+    L += more_passes(meshes, reps, passes, all_runs, all_diffs)
+    L.append("Files: peers.csv (one row per pass, program, mesh, repetition and phase, with load average, "
+             "iterations, peak memory and the agreement), peers.png (top: median phases stacked per program and "
+             "mesh, linear on one thread; bottom: whole process of every pass).\n")
     open(os.path.join(args.results, "peers.md"), "w").write("\n".join(L))
+
+
+def median_of(runs, key, reps, f):
+    return statistics.median(f(runs[key + (k,)]) for k in range(1, reps + 1))
+
+
+def more_passes(meshes, reps, passes, runs, diffs):
+    """The sections of the passes beyond linear on one thread."""
+    L = []
+    wall = lambda r: r["wall"]
+    def all_cores(law, title):
+        if f"{law}-all" not in passes:
+            return []
+        L = []
+        one = law if law in passes else None
+        L += [f"## {title} on all {CORES} cores\n",
+              f"softface on {CORES} threads (`DEAL_II_NUM_THREADS={CORES}`: threaded assembly and vector "
+              f"operations; ML and AztecOO stay on one), FEniCSx on {CORES} MPI ranks (`mpirun -np {CORES}`, "
+              f"the mesh partitioned by dolfinx), CalculiX with {CORES} threads (`OMP_NUM_THREADS`, "
+              "`CCX_NPROC_*`). Whole process, min / median of the repetitions; *speed-up* = one thread / all "
+              "cores (median).\n",
+              "| mesh | program | one thread s | all cores s | speed-up | all cores: peer / softface | "
+              "max \\|u - u_softface\\| mm |", "|---|---|---:|---:|---:|---:|---:|"]
+        for label, _, _, with_ccx in meshes:
+            progs = PROGRAMS if with_ccx else PROGRAMS[:2]
+            sf = median_of(runs, (f"{law}-all", label, "softface"), reps, wall)
+            for prog in progs:
+                vals = [runs[(f"{law}-all", label, prog, k)]["wall"] for k in range(1, reps + 1)]
+                m = statistics.median(vals)
+                m1 = median_of(runs, (one, label, prog), reps, wall) if one else None
+                dm = diffs.get((f"{law}-all", label, prog))
+                L.append(f"| {label} | {prog} | {f'{m1:.2f}' if m1 else '—'} | {min(vals):.2f} / {m:.2f} | "
+                         f"{f'{m1 / m:.2f}' if m1 else '—'} | "
+                         f"{'—' if prog == 'softface' else f'{m / sf:.2f}x'} | "
+                         f"{'(reference)' if prog == 'softface' else f'{dm:.1e}'} |")
+        L.append("")
+        return L
+
+    L += all_cores("linear", "Linear elasticity")
+    if "svk" in passes:
+        L += ["## St. Venant-Kirchhoff on one thread\n",
+              "The same cube and lift with CalculiX's material (*ELASTIC with NLGEOM) in all three: softface's "
+              "`nonlinear fem` (`Material law = st venant-kirchhoff`, `cg amg`, Newton with line search from one "
+              "load step, residual tolerance 1e-10 of the unbalanced force its tangent predictor balances, CG to 1e-6); FEniCSx: "
+              "dolfinx's Newton solver (full steps) from u = 0, whose first iteration is the same linear predictor, "
+              "with the same stop, each step CG + BoomerAMG to 1e-6; CalculiX: NLGEOM with its automatic incrementation from a tenth of the load, residual "
+              "and correction tolerances 1e-9, SPOOLES. *model* = the program's own time between reading the "
+              "mesh and writing the answer (softface: setup + solve; FEniCSx: forms, conditions, Newton); "
+              "*rest* = whole process minus mesh read and model. Min / median of the repetitions.\n",
+              "| mesh | program | mesh read s | model s | rest s | whole process s | Newton iterations | "
+              "linear iterations | peak MB | max \\|u - u_softface\\| mm |",
+              "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"]
+        fns = [lambda r: r["phases"].get("mesh read"), lambda r: r["phases"].get("model"),
+               lambda r: (None if "model" not in r["phases"] else
+                          r["wall"] - r["phases"]["model"] - r["phases"]["mesh read"]),
+               lambda r: r["wall"]]
+        for label, _, _, with_ccx in meshes:
+            progs = PROGRAMS if with_ccx else PROGRAMS[:2]
+            for prog in progs:
+                rs = [runs[("svk", label, prog, k)] for k in range(1, reps + 1)]
+                cells = []
+                for f in fns:
+                    v = [f(r) for r in rs]
+                    cells.append("—" if v[0] is None else f"{min(v):.2f} / {statistics.median(v):.2f}")
+                newton = sorted({r["newton"] for r in rs} - {None})
+                its = sorted({r["iterations"] for r in rs} - {None})
+                dm = diffs.get(("svk", label, prog))
+                cells += [", ".join(map(str, newton)) or "—", ", ".join(map(str, its)) or "— (direct)",
+                          f"{statistics.median(r['rss'] for r in rs):.0f}",
+                          "(reference)" if prog == "softface" else f"{dm:.1e}"]
+                L.append(f"| {label} | {prog} | " + " | ".join(cells) + " |")
+            sf = median_of(runs, ("svk", label, "softface"), reps, wall)
+            L.append(f"| {label} | *whole process, peer / softface* | | | | " +
+                     ", ".join(f"{p} {median_of(runs, ('svk', label, p), reps, wall) / sf:.2f}x"
+                               for p in progs[1:]) + " | | | | |")
+        checks = [(label, median_of(runs, ("svk", label, "softface"), reps,
+                                    lambda r: r["phases"].get("stability checks", 0.0)),
+                   median_of(runs, ("svk", label, "softface"), reps, lambda r: r["phases"]["model"]))
+                  for label, *_ in meshes]
+        L += ["", "softface tests every St. Venant-Kirchhoff equilibrium for stability (a Cholesky "
+              "factorisation of the tangent per load step, since CG may pass an indefinite tangent unnoticed); "
+              "the peers do not. Its share of softface's model time (median): " +
+              "; ".join(f"{l}: {c:.2f} s of {m:.2f} s" for l, c, m in checks) + "."]
+        L.append("")
+    L += all_cores("svk", "St. Venant-Kirchhoff")
+    return L
 
 
 def summary(meshes, reps, runs, diffs, info):
@@ -315,11 +477,11 @@ def summary(meshes, reps, runs, diffs, info):
     return out
 
 
-def plot(args, meshes, reps, runs):
+def plot(args, meshes, reps, runs, passes, all_runs):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axs = plt.subplots(1, len(meshes), figsize=(4.2 * len(meshes), 4.2), squeeze=False)
+    fig, axs = plt.subplots(2, len(meshes), figsize=(4.2 * len(meshes), 8.4), squeeze=False)
     names = [c[0] for c in COLUMNS] + ["rest"]
     colors = ["#8da0cb", "#66c2a5", "#fc8d62", "#e78ac3", "#cccccc"]
     for ax, (label, _, _, with_ccx) in zip(axs[0], meshes):
@@ -346,10 +508,25 @@ def plot(args, meshes, reps, runs):
         for hh, ll in zip(*ax.get_legend_handles_labels()):
             if ll not in l:
                 h.append(hh); l.append(ll)
-    fig.legend(h, l, fontsize=8, loc="lower center", ncol=len(l))
-    fig.suptitle("Linear elasticity on the same mesh, one thread:\nwhole process split into phases "
-                 "(median of %d)" % reps, fontsize=10)
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    fig.legend(h, l, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.53), ncol=len(l))
+    # Bottom row: the whole process of every pass, programs side by side.
+    width = 0.8 / len(passes)
+    for ax, (label, _, _, with_ccx) in zip(axs[1], meshes):
+        progs = PROGRAMS if with_ccx else PROGRAMS[:2]
+        for i, name in enumerate(passes):
+            x = [j + (i - (len(passes) - 1) / 2) * width for j in range(len(progs))]
+            y = [statistics.median(all_runs[(name, label, p, k)]["wall"] for k in range(1, reps + 1))
+                 for p in progs]
+            ax.bar(x, y, width, label=name.replace("-all", f", {CORES} cores").replace("svk", "SVK") +
+                   ("" if name.endswith("-all") else ", 1 thread"))
+        ax.set_xticks(range(len(progs)))
+        ax.set_xticklabels(progs)
+        ax.set_title(f"{label}: every pass")
+        ax.set_ylabel("median whole process (s)")
+        ax.legend(fontsize=7)
+    fig.suptitle("Top: linear elasticity, one thread, whole process split into phases; bottom: whole "
+                 "process of every pass (medians of %d)" % reps, fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 0.97), h_pad=4)
     fig.savefig(os.path.join(args.results, "peers.png"), dpi=120)
 
 

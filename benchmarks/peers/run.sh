@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
-# softface `linear fem` (cg amg) against FEniCSx (dolfinx) and CalculiX on the same gmsh cube meshes
-# (~35k, ~105k, ~491k tetrahedra; CalculiX on the first two only), 3 interleaved repetitions, one
-# thread each. Checks that the displacements agree (fails if a peer differs by > 1e-4 mm) and writes
+# softface `linear fem` (cg amg) and `nonlinear fem` (St. Venant-Kirchhoff) against FEniCSx (dolfinx)
+# and CalculiX on the same gmsh cube meshes (~35k, ~105k, ~491k tetrahedra; CalculiX on the first
+# two only), 3 interleaved repetitions, on one thread each and then on all cores. Checks that the
+# displacements agree (fails if a peer differs by > 1e-4 mm) and writes
 # doc/results/peers.{md,csv,png}. See README.md.
 #
-#   benchmarks/peers/run.sh [--quick]   (--quick: the 35k mesh once; results in the work dir)
+#   benchmarks/peers/run.sh [--quick] [--passes linear,linear-all,svk,svk-all] [--reps N]
+#   (--quick: the 35k mesh once; results in the work dir)
 #
 # Env: SOFTFACE (default build/softface), PEERS_WORK (default /tmp/peerbench), LD_LIBRARY_PATH is
 # passed through. Needs Debian's /usr/bin/python3 with python3-dolfinx, gmsh, scipy, matplotlib and
@@ -31,7 +33,10 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 quick=()
-if [ "${1:-}" = "--quick" ]; then quick=(--quick); results=$work/quick-results; fi
+more=()   # other options go to run.py (--passes, --reps)
+for a in "$@"; do
+  if [ "$a" = "--quick" ]; then quick=(--quick); results=$work/quick-results; else more+=("$a"); fi
+done
 mkdir -p "$work" "$results"
 
 # The meshes (gmsh 4.1 ASCII), made once.
@@ -42,7 +47,7 @@ for h in 4.3 2.88 1.68; do
 done
 
 /usr/bin/python3 "$here/run.py" --softface "$(realpath "$softface")" --work "$work" \
-  --results "$results" --command "benchmarks/peers/run.sh $*" "${quick[@]}"
+  --results "$results" --command "benchmarks/peers/run.sh $*" "${quick[@]}" "${more[@]}"
 echo "wrote $results/peers.md, peers.csv, peers.png"
 
 # Cell and DoF order: every model on the gmsh cubes against the generated cube of the same size.
