@@ -1,5 +1,7 @@
 // The driver of all deal.II-style tests: softface_tests NAME runs the test
-// registered as NAME with deallog writing to stdout.
+// registered as NAME with deallog writing to stdout. Under mpirun (tests named
+// NAME.mpirun=N.output) only rank 0 writes, and a test failing on one rank
+// ends every rank (MPI_Abort), so that none is left waiting in a collective.
 
 #include <deal.II/base/mpi.h>
 
@@ -44,7 +46,10 @@ main(int argc, char **argv)
       std::cerr << std::endl;
       return 2;
     }
-  dealii::deallog.attach(std::cout, /*print_job_id=*/false);
+  const bool writer =
+    dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+  if (writer)
+    dealii::deallog.attach(std::cout, /*print_job_id=*/false);
   dealii::deallog.depth_console(0);
   try
     {
@@ -53,8 +58,13 @@ main(int argc, char **argv)
   catch (const std::exception &e)
     {
       std::cout.flush();
-      std::cerr << "test " << argv[1]
-                << " failed: " << softface::error_message(e) << std::endl;
+      std::cerr << "test " << argv[1] << " failed";
+      if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        std::cerr << " on rank "
+                  << dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+      std::cerr << ": " << softface::error_message(e) << std::endl;
+      if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+        MPI_Abort(MPI_COMM_WORLD, 1);
       return 1;
     }
   return 0;

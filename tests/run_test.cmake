@@ -4,12 +4,15 @@
 #                 is compared exactly (the message is part of the interface).
 #   SCRATCH (optional): WORKING_DIRECTORY is copied there and the test runs in
 #                 the copy, so that whatever it writes stays in the build tree.
+#   LAUNCHER (optional): words separated by | run before COMMAND, e.g.
+#                 "mpiexec|-n|2" (a ; list would be split by add_test).
+string(REPLACE "|" ";" LAUNCHER "${LAUNCHER}")
 if(SCRATCH)
   file(REMOVE_RECURSE ${SCRATCH})
   file(COPY ${WORKING_DIRECTORY}/ DESTINATION ${SCRATCH})
   set(WORKING_DIRECTORY ${SCRATCH})
 endif()
-execute_process(COMMAND ${COMMAND} ${ARGUMENT}
+execute_process(COMMAND ${LAUNCHER} ${COMMAND} ${ARGUMENT}
   WORKING_DIRECTORY ${WORKING_DIRECTORY}
   OUTPUT_VARIABLE out ERROR_VARIABLE err RESULT_VARIABLE rc)
 

@@ -1,0 +1,99 @@
+#ifndef softface_core_distributed_layout_h
+#define softface_core_distributed_layout_h
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/base/mpi.h>
+#include <deal.II/distributed/fully_distributed_tria.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/lac/vector.h>
+
+#include <softface/core/scene.h>
+
+#include <string>
+#include <vector>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * The scene's P1 layout on the ranks of an MPI communicator (issue 20, a
+   * first step). Every rank holds the whole scene as a serial run does (its
+   * mesh, segments, join points and effects); the cells are partitioned among
+   * the ranks, and each rank builds a parallel::fullydistributed::Triangulation
+   * of its cells and their ghosts (simplex meshes need the fully distributed
+   * kind) and a DoFHandler with the scene's element on it.
+   *
+   * Each locally relevant DoF knows the scene's DoF of the same vertex and
+   * component (serial_dof()). So what the scene decided per vertex is read
+   * per locally owned DoF with exactly the serial answer (is_join_dof()), a
+   * serial vector gives the owned entries of a distributed one (scatter())
+   * and a distributed answer comes back as the serial vector the reports and
+   * outputs use (gather()).
+   *
+   * The serial scene on every rank bounds the mesh a run can hold by one
+   * rank's memory; reading and partitioning a mesh in groups is a later step.
+   */
+  class DistributedLayout
+  {
+  public:
+    /// How the cells are shared among the ranks.
+    enum class Partitioner
+    {
+      /// Contiguous ranges of the scene's cell order: a read mesh's cells
+      /// are in Hilbert order (core/cell_order.h), so the ranges are pieces
+      /// of a space-filling curve; the generated cube's are slabs.
+      cell_order,
+      /// METIS on the cells' face graph (deal.II's GridTools), fewer faces
+      /// between the ranks.
+      metis
+    };
+
+    /// "cell order" or "metis".
+    static Partitioner
+    parse_partitioner(const std::string &name);
+
+    /**
+     * Partition the scene's cells among the ranks of @p communicator and
+     * build this rank's part. Collective: every rank of the communicator
+     * calls it with the same scene.
+     */
+    DistributedLayout(const Scene      &scene,
+                      const MPI_Comm    communicator,
+                      const Partitioner partitioner = Partitioner::cell_order);
+
+    /// The scene's DoF of the same vertex and component as @p dof, which
+    /// must be locally relevant.
+    types::global_dof_index
+    serial_dof(const types::global_dof_index dof) const;
+
+    /// Is the locally relevant @p dof a join point's DoF (the scene's
+    /// decision for its vertex)?
+    bool
+    is_join_dof(const types::global_dof_index dof) const;
+
+    /// The owned entries of @p distributed from the serial vector @p serial.
+    void
+    scatter(const Vector<double>          &serial,
+            TrilinosWrappers::MPI::Vector &distributed) const;
+
+    /// The serial vector of @p distributed, on every rank. Collective.
+    Vector<double>
+    gather(const TrilinosWrappers::MPI::Vector &distributed) const;
+
+    const Scene                                 &scene;
+    const MPI_Comm                               communicator;
+    parallel::fullydistributed::Triangulation<3> triangulation;
+    DoFHandler<3>                                dof_handler;
+    IndexSet                                     locally_owned_dofs;
+    IndexSet                                     locally_relevant_dofs;
+
+  private:
+    /// serial_dof() of each locally relevant DoF, by its place in
+    /// locally_relevant_dofs.
+    std::vector<types::global_dof_index> serial_dof_of_relevant;
+  };
+} // namespace softface
+
+#endif

@@ -1,0 +1,120 @@
+// The scene's layout on several MPI ranks (issue 20, a first step): the
+// serial mesh partitioned, a fully distributed triangulation and DoFHandler
+// per rank, and the map from its DoFs to the scene's, through which the
+// serial decisions (join points) and vectors reach the ranks and answers come
+// back. See core/distributed_layout.h.
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/sparsity_tools.h>
+
+#include <softface/core/distributed_layout.h>
+#include <softface/core/error.h>
+
+#include <cstdint>
+
+namespace softface
+{
+  DistributedLayout::Partitioner
+  DistributedLayout::parse_partitioner(const std::string &name)
+  {
+    if (name == "cell order")
+      return Partitioner::cell_order;
+    if (name == "metis")
+      return Partitioner::metis;
+    throw Error("Unknown partitioner '" + name +
+                "'; use 'cell order' or 'metis'.");
+  }
+
+  DistributedLayout::DistributedLayout(const Scene      &scene,
+                                       const MPI_Comm    communicator,
+                                       const Partitioner partitioner)
+      : scene(scene)
+      , communicator(communicator)
+      , triangulation(communicator)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+
+    // A copy of the serial mesh whose subdomain ids name each cell's rank:
+    // the scene's own mesh stays as the serial models use it.
+    Triangulation<3> partitioned;
+    partitioned.copy_triangulation(scene.triangulation);
+    if (partitioner == Partitioner::metis && n_ranks > 1)
+      GridTools::partition_triangulation(n_ranks,
+                                         partitioned,
+                                         SparsityTools::Partitioner::metis);
+    else
+      {
+        const std::uint64_t n_cells = partitioned.n_active_cells();
+        for (const auto &cell : partitioned.active_cell_iterators())
+          cell->set_subdomain_id(static_cast<types::subdomain_id>(
+            std::uint64_t(cell->active_cell_index()) * n_ranks / n_cells));
+      }
+    triangulation.create_triangulation(
+      TriangulationDescription::Utilities::
+        create_description_from_triangulation(partitioned, communicator));
+
+    dof_handler.reinit(triangulation);
+    dof_handler.distribute_dofs(scene.fe);
+    locally_owned_dofs = dof_handler.locally_owned_dofs();
+    DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
+
+    // A cell of this rank is the serial cell of its coarse cell id (the
+    // description numbers coarse cells as the serial mesh does), with its
+    // vertices in the same order: the DoFs of a vertex and component
+    // correspond.
+    serial_dof_of_relevant.assign(locally_relevant_dofs.n_elements(),
+                                  numbers::invalid_dof_index);
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const DoFHandler<3>::active_cell_iterator serial(
+            &scene.triangulation,
+            0,
+            cell->id().get_coarse_cell_id(),
+            &scene.dof_handler);
+          for (const unsigned int v : cell->vertex_indices())
+            for (unsigned int c = 0; c < 3; ++c)
+              serial_dof_of_relevant[locally_relevant_dofs.index_within_set(
+                cell->vertex_dof_index(v, c))] = serial->vertex_dof_index(v, c);
+        }
+  }
+
+  types::global_dof_index
+  DistributedLayout::serial_dof(const types::global_dof_index dof) const
+  {
+    AssertThrow(locally_relevant_dofs.is_element(dof),
+                ExcMessage("DoF " + std::to_string(dof) +
+                           " is not locally relevant on this rank."));
+    return serial_dof_of_relevant[locally_relevant_dofs.index_within_set(dof)];
+  }
+
+  bool
+  DistributedLayout::is_join_dof(const types::global_dof_index dof) const
+  {
+    return scene.join_dofs()[serial_dof(dof)];
+  }
+
+  void
+  DistributedLayout::scatter(const Vector<double>          &serial,
+                             TrilinosWrappers::MPI::Vector &distributed) const
+  {
+    for (const auto dof : locally_owned_dofs)
+      distributed[dof] = serial[serial_dof(dof)];
+    distributed.compress(VectorOperation::insert);
+  }
+
+  Vector<double>
+  DistributedLayout::gather(
+    const TrilinosWrappers::MPI::Vector &distributed) const
+  {
+    // Each rank writes its owned entries into a zero serial vector; the sum
+    // over the ranks is the whole vector, since every DoF has one owner.
+    Vector<double> serial(scene.dof_handler.n_dofs());
+    for (const auto dof : locally_owned_dofs)
+      serial[serial_dof(dof)] = distributed[dof];
+    Utilities::MPI::sum(serial, communicator, serial);
+    return serial;
+  }
+} // namespace softface

@@ -1,0 +1,184 @@
+// The scene's layout on several MPI ranks (issue 20, a first step), run by
+// ctest on 2 and 3 ranks (distributed_layout.mpirun=N.output). Against the
+// serial scene it is built from, on the generated cube and on a read gmsh
+// mesh, with both partitioners:
+// - every serial DoF is owned by exactly one rank, and a rank's DoF sits at
+//   the vertex of the serial DoF it maps to (its component too);
+// - join points decided per owned DoF give the serial counts per segment
+//   (the cube's slabs on 3 ranks: the inner bone on the middle rank only, the
+//   other two own none of its join points);
+// - scatter and gather of a serial field give it back exactly, and a field
+//   set on the ranks from their own support points gathers to the serial
+//   field at the scene's support points.
+
+#include <deal.II/base/mpi.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <softface/core/distributed_layout.h>
+
+#include "peer.h"
+#include "scenes.h"
+#include "tests.h"
+
+#include <algorithm>
+#include <map>
+
+using namespace softface_tests;
+
+namespace
+{
+  /// A field that tells the DoFs apart: linear in the point, offset by the
+  /// component.
+  double
+  field(const Point<3> &x, const unsigned int component)
+  {
+    return x[0] + 2. * x[1] + 3. * x[2] + 1000. * component;
+  }
+
+  void
+  check_layout(const std::string                   &name,
+               const Scene                         &scene,
+               const DistributedLayout::Partitioner partitioner,
+               const bool                           print_per_rank)
+  {
+    const MPI_Comm          comm    = MPI_COMM_WORLD;
+    const unsigned int      n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const DistributedLayout layout(scene, comm, partitioner);
+    const auto             &owned        = layout.locally_owned_dofs;
+    const types::global_dof_index n_dofs = scene.dof_handler.n_dofs();
+
+    deallog << name << ':' << std::endl;
+    check_equal("  DoFs", layout.dof_handler.n_dofs(), n_dofs);
+
+    // Every serial DoF owned by exactly one rank.
+    std::vector<double> owners(n_dofs, 0.);
+    for (const auto dof : owned)
+      owners[layout.serial_dof(dof)] += 1.;
+    Utilities::MPI::sum(owners, comm, owners);
+    check_equal("  serial DoFs not owned by exactly one rank",
+                std::count_if(owners.begin(),
+                              owners.end(),
+                              [](const double n) { return n != 1.; }),
+                0);
+
+    // A rank's locally relevant DoF sits where its serial DoF sits, and is
+    // the same component.
+    std::map<types::global_dof_index, Point<3>> points, serial_points;
+    DoFTools::map_dofs_to_support_points(scene.mapping,
+                                         layout.dof_handler,
+                                         points);
+    DoFTools::map_dofs_to_support_points(scene.mapping,
+                                         scene.dof_handler,
+                                         serial_points);
+    double       largest_distance = 0.;
+    unsigned int wrong_components = 0;
+    for (const auto &[dof, point] : points)
+      {
+        const auto serial = layout.serial_dof(dof);
+        largest_distance =
+          std::max(largest_distance, point.distance(serial_points.at(serial)));
+        // Both layouts number a vertex's three components together.
+        wrong_components += dof % 3 != serial % 3;
+      }
+    check_below("  largest distance of a rank's DoF to its serial DoF (mm)",
+                Utilities::MPI::max(largest_distance, comm),
+                0.);
+    check_equal("  DoFs mapped to another component",
+                Utilities::MPI::sum(wrong_components, comm),
+                0);
+
+    // Join points per segment, decided per owned DoF (first component).
+    std::vector<unsigned int> vertex_of_dof(n_dofs);
+    for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
+      if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
+        vertex_of_dof[scene.vertex_dofs()[v][0]] = v;
+    const unsigned int        n_segments = scene.segments.size();
+    std::vector<unsigned int> mine(n_segments, 0);
+    unsigned int              join_dofs = 0;
+    for (const auto dof : owned)
+      if (layout.is_join_dof(dof))
+        {
+          ++join_dofs;
+          const auto serial = layout.serial_dof(dof);
+          if (serial % 3 == 0)
+            ++mine[scene.vertex_segment()[vertex_of_dof[serial]]];
+        }
+    check_equal("  join DoFs on all ranks",
+                Utilities::MPI::sum(join_dofs, comm),
+                std::count(scene.join_dofs().begin(),
+                           scene.join_dofs().end(),
+                           true));
+    const auto per_rank = Utilities::MPI::gather(comm, mine);
+    for (unsigned int s = 0; s < n_segments; ++s)
+      {
+        unsigned int total = 0, ranks_with_none = 0;
+        if (Utilities::MPI::this_mpi_process(comm) == 0)
+          for (unsigned int r = 0; r < n_ranks; ++r)
+            {
+              total += per_rank[r][s];
+              ranks_with_none += per_rank[r][s] == 0;
+            }
+        total           = Utilities::MPI::broadcast(comm, total);
+        ranks_with_none = Utilities::MPI::broadcast(comm, ranks_with_none);
+        check_equal("  join points of '" + scene.segments[s].name + "'",
+                    total,
+                    scene.n_join_vertices(s));
+        if (print_per_rank)
+          {
+            deallog << "    per rank:";
+            if (Utilities::MPI::this_mpi_process(comm) == 0)
+              for (unsigned int r = 0; r < n_ranks; ++r)
+                deallog << ' ' << per_rank[r][s];
+            deallog << " (" << ranks_with_none << " ranks own none)"
+                    << std::endl;
+          }
+      }
+
+    // Scatter and gather give a serial field back exactly.
+    Vector<double> serial(n_dofs);
+    for (const auto &[dof, point] : serial_points)
+      serial[dof] = field(point, dof % 3);
+    TrilinosWrappers::MPI::Vector distributed(owned, comm);
+    layout.scatter(serial, distributed);
+    Vector<double> back = layout.gather(distributed);
+    back -= serial;
+    check_below("  scatter then gather, largest difference",
+                back.linfty_norm(),
+                0.);
+
+    // A field set on the ranks from their own support points gathers to the
+    // serial field.
+    for (const auto dof : owned)
+      distributed[dof] = field(points.at(dof), dof % 3);
+    distributed.compress(VectorOperation::insert);
+    back = layout.gather(distributed);
+    back -= serial;
+    check_below("  field set on the ranks, gathered, largest difference",
+                back.linfty_norm(),
+                0.);
+  }
+} // namespace
+
+SOFTFACE_TEST(distributed_layout)
+{
+  using Partitioner = DistributedLayout::Partitioner;
+  deallog << "ranks: " << Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD)
+          << std::endl;
+
+  Scene cube;
+  make_cube_scene(cube, 3000);
+  check_layout("generated cube, cell order",
+               cube,
+               Partitioner::cell_order,
+               true);
+  // METIS's parts may change with its version: the counts per rank are not
+  // printed.
+  check_layout("generated cube, metis", cube, Partitioner::metis, false);
+
+  ParameterHandler prm;
+  Scene            gmsh;
+  read_scene("peer_calculix_cube30k.prm", prm, gmsh);
+  check_layout("gmsh cube30k, cell order", gmsh, Partitioner::cell_order, true);
+  check_layout("gmsh cube30k, metis", gmsh, Partitioner::metis, false);
+}
