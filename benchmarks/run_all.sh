@@ -4,8 +4,8 @@
 # benchmark with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation, plus
 # the seed's MTM precision study. Shows "case i of N, elapsed, estimate".
 #
-#   benchmarks/run_all.sh           full run (in 2026-11 about five hours of one
-#                                   core, most of it the references), writes
+#   benchmarks/run_all.sh           full run (2.4 to 5 hours of one core in
+#                                   2026-11, most of it the references), writes
 #                                   doc/results/accuracy_vs_time.{md,csv,png}
 #                                   and doc/results/mtm_precision.{md,csv,png}
 #   benchmarks/run_all.sh --quick   coarser meshes, fewer settings (under 5
