@@ -62,13 +62,7 @@ namespace
 SOFTFACE_TEST(effects_two_material_cube)
 {
   const auto make = [](Scene &scene) {
-    Mesh::CubeParameters cube;
-    cube.target_n_tetrahedra = 3000;
-    cube.upper_material_id   = 3;
-    Mesh::generate_cube(cube, scene.triangulation);
-    scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                      {"bone", {Mesh::cube_inner_id}, {}, {}}};
-    scene.setup();
+    softface_tests::make_two_material_cube_scene(scene, 3000, 3);
   };
   Scene plain, same, stiffer, scaled;
   make(plain);

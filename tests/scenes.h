@@ -29,6 +29,22 @@ namespace softface_tests
     scene.setup();
   }
 
+  /// The seed's cube whose upper half (z > 40) has material id
+  /// @p upper_material_id (the rest 1), for two tissues.
+  inline void
+  make_two_material_cube_scene(Scene                   &scene,
+                               const unsigned int       target_n_tetrahedra,
+                               const types::material_id upper_material_id)
+  {
+    Mesh::CubeParameters cube;
+    cube.target_n_tetrahedra = target_n_tetrahedra;
+    cube.upper_material_id   = upper_material_id;
+    Mesh::generate_cube(cube, scene.triangulation);
+    scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                      {"bone", {Mesh::cube_inner_id}, {}, {}}};
+    scene.setup();
+  }
+
   /**
    * The seed's cube with its interior vertices moved by a smooth field that
    * vanishes on the outer faces, so that no tetrahedron is a right-angled

@@ -90,6 +90,14 @@ namespace softface
     return serial_dof_of_relevant[locally_relevant_dofs.index_within_set(dof)];
   }
 
+  Triangulation<3>::active_cell_iterator
+  DistributedLayout::serial_cell(
+    const DoFHandler<3>::active_cell_iterator &cell) const
+  {
+    return Triangulation<3>::active_cell_iterator(
+      &scene.triangulation, 0, cell->id().get_coarse_cell_id());
+  }
+
   bool
   DistributedLayout::is_join_dof(const types::global_dof_index dof) const
   {

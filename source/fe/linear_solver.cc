@@ -131,7 +131,28 @@ namespace softface
     amg_matrix.reinit(source);
     const unsigned int n = dof_points.size();
     AssertDimension(source.m(), n);
+    // Rotations are taken about the centroid to keep the modes balanced.
+    Point<3> centroid;
+    for (const auto &p : dof_points)
+      centroid += p;
+    centroid /= std::max(n, 1u);
+    Teuchos::ParameterList parameters;
+    const auto             null_space = amg_parameters(
+      prm, amg_matrix, dof_points, dof_component, centroid, parameters);
+    amg.initialize(amg_matrix, parameters);
+    amg_built = true;
+    ++amg_builds;
+  }
 
+  std::array<std::unique_ptr<Epetra_MultiVector>, 2>
+  LinearSolver::amg_parameters(const Parameters                     &prm,
+                               const TrilinosWrappers::SparseMatrix &matrix,
+                               const std::vector<Point<3>>          &points,
+                               const std::vector<unsigned int>      &component,
+                               const Point<3>                       &centroid,
+                               Teuchos::ParameterList               &parameters)
+  {
+    const unsigned int                                n = points.size();
     TrilinosWrappers::PreconditionAMG::AdditionalData data;
     data.elliptic              = true;
     data.higher_order_elements = false;
@@ -140,39 +161,40 @@ namespace softface
     data.constant_modes =
       std::vector<std::vector<bool>>(3, std::vector<bool>(n, false));
     for (unsigned int i = 0; i < n; ++i)
-      if (dof_component[i] < 3)
-        data.constant_modes[dof_component[i]][i] = true;
+      if (component[i] < 3)
+        data.constant_modes[component[i]][i] = true;
 
-    Teuchos::ParameterList              parameters;
-    std::unique_ptr<Epetra_MultiVector> translations;
-    data.set_parameters(parameters, translations, amg_matrix);
+    std::array<std::unique_ptr<Epetra_MultiVector>, 2> vectors;
+    data.set_parameters(parameters, vectors[0], matrix);
 
     // Elasticity needs the three rotations besides the translations, or the
-    // iteration count grows with the mesh. Rotations are taken about the
-    // centroid to keep the modes balanced.
-    Epetra_MultiVector modes(amg_matrix.trilinos_matrix().DomainMap(), 6);
-    Point<3>           centroid;
-    for (const auto &p : dof_points)
-      centroid += p;
-    centroid /= std::max(n, 1u);
+    // iteration count grows with the mesh.
+    vectors[1] =
+      std::make_unique<Epetra_MultiVector>(matrix.trilinos_matrix().DomainMap(),
+                                           6);
+    Epetra_MultiVector &modes = *vectors[1];
     // Aggregate points (blocks of three DoFs), not single DoFs, when the
     // DoFs of every point are 3k..3k+2: this made ML's setup about 25%
     // cheaper on the 100k cube for about the same number of CG iterations.
     bool point_blocks = (n % 3 == 0);
     for (unsigned int i = 0; i < n; ++i)
       {
-        const unsigned int c = dof_component[i];
+        const unsigned int c = component[i];
         if (c >= 3)
           continue;
-        if (c != i % 3 || dof_points[i] != dof_points[i - i % 3])
+        if (c != i % 3 || points[i] != points[i - i % 3])
           point_blocks = false;
-        const Tensor<1, 3> x = dof_points[i] - centroid;
+        const Tensor<1, 3> x = points[i] - centroid;
         modes[c][i]          = 1.;
         // rotation about e_k: e_k x x, component c
         const unsigned int c1 = (c + 1) % 3, c2 = (c + 2) % 3;
         modes[3 + c1][i] = x[c2];  // (e_c1 x x)_c = x_c2
         modes[3 + c2][i] = -x[c1]; // (e_c2 x x)_c = -x_c1
       }
+    // Every process must agree (a distributed matrix's owned ranges hold
+    // whole points, so they do).
+    point_blocks = Utilities::MPI::min(static_cast<unsigned int>(point_blocks),
+                                       matrix.get_mpi_communicator()) == 1;
     parameters.set("PDE equations", point_blocks ? 3 : 1);
     parameters.set("null space: type", "pre-computed");
     parameters.set("null space: dimension", modes.NumVectors());
@@ -186,10 +208,7 @@ namespace softface
         parameters.set("aggregation: type", "Uncoupled");
         parameters.set("aggregation: damping factor", 0.);
       }
-
-    amg.initialize(amg_matrix, parameters);
-    amg_built = true;
-    ++amg_builds;
+    return vectors;
   }
 
   bool

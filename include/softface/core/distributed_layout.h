@@ -68,6 +68,12 @@ namespace softface
     types::global_dof_index
     serial_dof(const types::global_dof_index dof) const;
 
+    /// The scene's cell that the locally relevant @p cell of this rank is
+    /// (the same vertices in the same order, the same index for the scene's
+    /// per-cell data such as tissues).
+    Triangulation<3>::active_cell_iterator
+    serial_cell(const DoFHandler<3>::active_cell_iterator &cell) const;
+
     /// Is the locally relevant @p dof a join point's DoF (the scene's
     /// decision for its vertex)?
     bool

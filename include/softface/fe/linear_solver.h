@@ -12,8 +12,16 @@
 #include <softface/core/scene.h>
 #include <softface/fe/sparse_cholesky.h>
 
+#include <array>
+#include <memory>
 #include <string>
 #include <vector>
+
+class Epetra_MultiVector;
+namespace Teuchos
+{
+  class ParameterList;
+}
 
 namespace softface
 {
@@ -101,6 +109,23 @@ namespace softface
     /// Build ML on @p matrix now (e.g. the stiffness at rest, for tangents).
     void
     build_amg(const SparseMatrix<double> &matrix);
+
+    /**
+     * ML's parameters for elasticity on @p matrix, serial or distributed:
+     * the six rigid-body modes (rotations about @p centroid) of the DoFs this
+     * process owns, which have the support points @p dof_points and
+     * components @p dof_component in the matrix's order, aggregated as points
+     * when each point's DoFs are 3k..3k+2, and the prolongator and smoother
+     * that @p parameters choose. The returned vectors back the list's null
+     * space: keep them until ML is built.
+     */
+    static std::array<std::unique_ptr<Epetra_MultiVector>, 2>
+    amg_parameters(const Parameters                     &parameters,
+                   const TrilinosWrappers::SparseMatrix &matrix,
+                   const std::vector<Point<3>>          &dof_points,
+                   const std::vector<unsigned int>      &dof_component,
+                   const Point<3>                       &centroid,
+                   Teuchos::ParameterList               &list);
 
     /// Solve; @p solution is the initial guess of an iterative method.
     Result

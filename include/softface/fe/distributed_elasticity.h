@@ -1,0 +1,47 @@
+#ifndef softface_fe_distributed_elasticity_h
+#define softface_fe_distributed_elasticity_h
+
+#include <deal.II/lac/vector.h>
+
+#include <softface/core/distributed_layout.h>
+#include <softface/fe/linear_solver.h>
+
+namespace softface
+{
+  using namespace dealii;
+
+  /**
+   * Linear elasticity on several MPI ranks (issue 20, a first step): the
+   * linear FEM model's equations (seed eq. 8, each cell with its tissue's
+   * law, the scene's body force) on a DistributedLayout, assembled on each
+   * rank's own cells into a Trilinos matrix with the join DoFs prescribed
+   * through AffineConstraints, and solved by CG with ML given the six
+   * rigid-body modes (LinearSolver::amg_parameters(), the serial model's
+   * ML). Vertex constraints (sliding contact, lips) are not distributed yet.
+   */
+  namespace DistributedElasticity
+  {
+    struct Result
+    {
+      /// The displacement in the scene's serial layout, on every rank.
+      Vector<double> displacement;
+      bool           converged         = false;
+      unsigned int   iterations        = 0;
+      double         relative_residual = 0.;
+    };
+
+    /**
+     * Solve with the join DoFs moved by @p prescribed (serial layout, as
+     * Planning::prescribed_displacement() gives it) to @p parameters'
+     * relative tolerance. Collective; throws the same error on every rank
+     * when the scene has an effect this solve does not honour or CG does not
+     * converge.
+     */
+    Result
+    solve_linear(const DistributedLayout        &layout,
+                 const Vector<double>           &prescribed,
+                 const LinearSolver::Parameters &parameters);
+  } // namespace DistributedElasticity
+} // namespace softface
+
+#endif

@@ -1,0 +1,179 @@
+// Linear elasticity on several MPI ranks (issue 20, a first step): the
+// linear FEM model's stiffness assembled on each rank's cells into a Trilinos
+// matrix, the join DoFs prescribed by AffineConstraints, CG with the serial
+// model's ML. See fe/distributed_elasticity.h.
+
+#include <deal.II/base/index_set.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/full_matrix.h>
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+#include <deal.II/lac/trilinos_vector.h>
+
+#include <softface/core/error.h>
+#include <softface/core/tetrahedron.h>
+#include <softface/fe/distributed_elasticity.h>
+#include <softface/fe/elasticity.h>
+
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
+
+#include <array>
+#include <sstream>
+
+namespace softface
+{
+  namespace DistributedElasticity
+  {
+    Result
+    solve_linear(const DistributedLayout        &layout,
+                 const Vector<double>           &prescribed,
+                 const LinearSolver::Parameters &parameters)
+    {
+      const Scene    &scene = layout.scene;
+      const MPI_Comm  comm  = layout.communicator;
+      const IndexSet &owned = layout.locally_owned_dofs;
+      // Every rank holds the same scene, so every rank refuses alike.
+      if (scene.has_vertex_constraints())
+        throw Error("Linear elasticity on several MPI ranks does not honour "
+                    "vertex constraints (sliding contact, separated lips) "
+                    "yet; run this scene on one rank.");
+      if (parameters.method != "cg amg")
+        throw Error("Linear elasticity on several MPI ranks solves with 'cg "
+                    "amg' only, not '" +
+                    parameters.method + "'.");
+
+      // The join DoFs take the planning's displacement.
+      AffineConstraints<double> constraints(layout.locally_relevant_dofs);
+      for (const auto dof : layout.locally_relevant_dofs)
+        if (layout.is_join_dof(dof))
+          {
+            constraints.add_line(dof);
+            constraints.set_inhomogeneity(dof,
+                                          prescribed[layout.serial_dof(dof)]);
+          }
+      constraints.close();
+
+      TrilinosWrappers::SparsityPattern sparsity(owned,
+                                                 owned,
+                                                 layout.locally_relevant_dofs,
+                                                 comm);
+      DoFTools::make_sparsity_pattern(layout.dof_handler,
+                                      sparsity,
+                                      constraints,
+                                      /*keep_constrained_dofs=*/false,
+                                      Utilities::MPI::this_mpi_process(comm));
+      sparsity.compress();
+      TrilinosWrappers::SparseMatrix stiffness;
+      stiffness.reinit(sparsity);
+      TrilinosWrappers::MPI::Vector rhs(owned, comm);
+
+      // Each cell's stiffness from the scene's cell (the serial model's
+      // element matrix, bit for bit) and its tissue; rows and columns in the
+      // order vertex, component.
+      std::vector<Tensor<4, 3>> A;
+      for (unsigned int t = 0; t < scene.n_tissues(); ++t)
+        A.push_back(Elasticity::linear_tangent(scene.tissue(t).lame()));
+      FullMatrix<double>                   cell_matrix(12, 12);
+      Vector<double>                       cell_rhs(12);
+      std::vector<types::global_dof_index> dofs(12);
+      for (const auto &cell : layout.dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const auto serial = layout.serial_cell(cell);
+            const auto K      = Elasticity::p1_stiffness(
+              Tetrahedron::geometry(Tetrahedron::vertices(serial)),
+              A[scene.tissue_of_cell(serial->active_cell_index())]);
+            for (unsigned int a = 0; a < 4; ++a)
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  dofs[3 * a + i] = cell->vertex_dof_index(a, i);
+                  for (unsigned int b = 0; b < 4; ++b)
+                    for (unsigned int k = 0; k < 3; ++k)
+                      cell_matrix(3 * a + i, 3 * b + k) = K[a][b][i][k];
+                }
+            cell_rhs = 0.;
+            constraints.distribute_local_to_global(
+              cell_matrix, cell_rhs, dofs, stiffness, rhs);
+          }
+      stiffness.compress(VectorOperation::add);
+      // The scene's nodal body force (gravity) on the free DoFs.
+      if (scene.has_body_force())
+        for (const auto dof : owned)
+          if (!constraints.is_constrained(dof))
+            rhs[dof] += scene.effects.body_force[layout.serial_dof(dof)];
+      rhs.compress(VectorOperation::add);
+
+      // ML as the serial model builds it: the owned DoFs' points and
+      // components, rotations about the centroid of all vertices.
+      std::vector<Point<3>>     points(owned.n_elements());
+      std::vector<unsigned int> component(owned.n_elements(),
+                                          numbers::invalid_unsigned_int);
+      for (const auto &cell : layout.dof_handler.active_cell_iterators())
+        if (!cell->is_artificial())
+          for (const unsigned int v : cell->vertex_indices())
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                const auto dof = cell->vertex_dof_index(v, c);
+                if (owned.is_element(dof))
+                  {
+                    points[owned.index_within_set(dof)]    = cell->vertex(v);
+                    component[owned.index_within_set(dof)] = c;
+                  }
+              }
+      Point<3> centroid;
+      for (const auto &p : points)
+        centroid += p;
+      for (unsigned int d = 0; d < 3; ++d)
+        centroid[d] = Utilities::MPI::sum(centroid[d], comm);
+      centroid /=
+        std::max<types::global_dof_index>(layout.dof_handler.n_dofs(), 1);
+      TrilinosWrappers::PreconditionAMG amg;
+      {
+        Teuchos::ParameterList list;
+        const auto             null_space = LinearSolver::amg_parameters(
+          parameters, stiffness, points, component, centroid, list);
+        amg.initialize(stiffness, list);
+      }
+
+      Result                                  result;
+      TrilinosWrappers::MPI::Vector           solution(owned, comm);
+      SolverControl                           control(parameters.max_iterations,
+                            parameters.relative_tolerance * rhs.l2_norm(),
+                            /*log_history=*/false,
+                            /*log_result=*/false);
+      SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+      try
+        {
+          cg.solve(stiffness, solution, rhs, amg);
+          result.converged = true;
+        }
+      catch (const SolverControl::NoConvergence &)
+        {
+          // Every rank sees the same global norms: every rank gets here.
+        }
+      result.iterations = control.last_step();
+      TrilinosWrappers::MPI::Vector residual(owned, comm);
+      stiffness.vmult(residual, solution);
+      residual -= rhs;
+      result.relative_residual =
+        rhs.l2_norm() > 0. ? residual.l2_norm() / rhs.l2_norm() : 0.;
+      if (!result.converged)
+        {
+          std::ostringstream m;
+          m << "Linear elasticity on " << Utilities::MPI::n_mpi_processes(comm)
+            << " ranks: CG did not converge in " << result.iterations
+            << " iterations (relative residual " << result.relative_residual
+            << ").";
+          throw Error(m.str());
+        }
+      constraints.distribute(solution);
+      result.displacement = layout.gather(solution);
+      return result;
+    }
+  } // namespace DistributedElasticity
+} // namespace softface
