@@ -60,6 +60,11 @@ MODELS = {"linear": """  set Models = linear fem
 MODEL_NAME = {"linear": "linear_fem", "svk": "nonlinear_fem"}
 
 
+class RunFailed(Exception):
+    """A program did not reach the answer (St. Venant-Kirchhoff may have no equilibrium on the
+    way): the mesh is left out of that law's passes and the report says why."""
+
+
 def timed(cmd, cwd, log, env=ENV):
     """Run cmd under /usr/bin/time; return (wall s, peak RSS MB, CPU s, stdout)."""
     tf = os.path.join(cwd, "time.txt")
@@ -82,7 +87,7 @@ def run_softface(binary, mesh, d, law="linear", cores=1):
     ph = {"mesh read": float(re.search(r"free DoFs \(([\d.]+) s\)", out).group(1))}
     row = next(csv.DictReader(open(os.path.join(d, "out", "summary.csv"))))
     if row["status"] != "ok":
-        sys.exit(f"softface failed in {d}: {row['error']}")
+        raise RunFailed(f"softface: {row['error']}")
     for kv in row["phases"].split(";"):
         k, v = kv.split("=")
         ph[k] = float(v)
@@ -112,7 +117,7 @@ def run_fenicsx(mesh, d, law="linear", cores=1):
                       if k not in ("import", "mesh read", "write", "in-process total",
                                    "reference force"))
     if law == "svk" and not j["converged_reason"]:
-        sys.exit(f"FEniCSx's Newton solver did not converge in {d}")
+        raise RunFailed("FEniCSx: dolfinx's Newton solver did not converge")
     if cores > 1:
         rss = j["peak_mb_all_ranks"]          # /usr/bin/time sees only the largest rank
     return dict(phases=ph, wall=wall, rss=rss, cpu=cpu, iterations=j["iterations"],
@@ -127,7 +132,7 @@ def run_calculix(case_dir, d, cores=1):
         subprocess.run(["cp", os.path.join(case_dir, f), d], check=True)
     wall, rss, cpu, out = timed(["ccx", "-i", "case"], d, "ccx.log", environment(cores))
     if "Job finished" not in out or "*ERROR" in out:
-        sys.exit(f"CalculiX failed in {d}")
+        raise RunFailed(f"CalculiX: no answer (see {os.path.join(d, 'ccx.log')})")
     ccx_total = float(re.search(r"Total CalculiX Time:\s*([\d.eE+-]+)", out).group(1))
     subprocess.run([PY, os.path.join(HERE, "calculix_case.py"), "collect", d, os.path.join(d, "u.csv")],
                    check=True, capture_output=True)
@@ -171,8 +176,12 @@ def main():
     m0 = os.path.join(W, meshes[0][1])
     print("warm-up on", meshes[0][1], flush=True)
     for law in sorted({PASSES[p][0] for p in passes}):
-        run_softface(args.softface, m0, os.path.join(W, "warmup", "softface"), law)
-        run_fenicsx(m0, os.path.join(W, "warmup", "fenicsx"), law)
+        for warm in (lambda: run_softface(args.softface, m0, os.path.join(W, "warmup", "softface"), law),
+                     lambda: run_fenicsx(m0, os.path.join(W, "warmup", "fenicsx"), law)):
+            try:
+                warm()
+            except RunFailed:                  # it only fills caches; the passes will say
+                pass
 
     # softface's fixed cost of a process: start it on a scene file that does not exist (it exits
     # with an error after loading its libraries); median of 3.
@@ -185,11 +194,14 @@ def main():
         startup_mb.append(int(open(tf).read().split()[-1]) / 1024)
 
     rows, runs, diffs, prepared = [], {}, {}, set()
+    failed = {}                                # (law, mesh label): why it is not compared
     info = {"startup": statistics.median(startup), "startup_mb": statistics.median(startup_mb)}
     t_start = time.time()
     for name in passes:
         law, cores = PASSES[name]
         for label, fname, _, with_ccx in meshes:
+            if (law, label) in failed:             # a program failed on it in this law's other pass
+                continue
             mesh = os.path.join(W, fname)
             progs = PROGRAMS if with_ccx else PROGRAMS[:2]
             case = os.path.join(W, label, f"calculix_case_{law}")
@@ -204,14 +216,29 @@ def main():
                     load = open("/proc/loadavg").read().split()[0]
                     print(f"[{time.time() - t_start:6.0f} s] {name} {label} rep {rep} {prog} (load {load})",
                           flush=True)
-                    r = (run_softface(args.softface, mesh, d, law, cores) if prog == "softface" else
-                         run_fenicsx(mesh, d, law, cores) if prog == "FEniCSx" else
-                         run_calculix(case, d, cores))
+                    try:
+                        r = (run_softface(args.softface, mesh, d, law, cores) if prog == "softface" else
+                             run_fenicsx(mesh, d, law, cores) if prog == "FEniCSx" else
+                             run_calculix(case, d, cores))
+                    except RunFailed as error:
+                        if law != "svk":               # linear elasticity must always agree
+                            sys.exit(f"{label} ({name}): {error}")
+                        # The other programs still run once, so the report says whether they
+                        # reach the answer.
+                        failed.setdefault((law, label), []).append(f"{error} ({name}, repetition {rep})")
+                        print(f"    {error}", flush=True)
+                        continue
                     r["load"] = float(load)
                     runs[(name, label, prog, rep)] = r
                     print(f"    whole process {r['wall']:.2f} s, peak {r['rss']:.0f} MB, CPU {r['cpu']:.2f} s, "
                           f"iterations {r['iterations']}" +
                           (f", Newton {r['newton']}" if r.get("newton") else ""), flush=True)
+                if (law, label) in failed:
+                    reached = [f"{p} ({runs[(name, label, p, rep)]['wall']:.1f} s)" for p in progs
+                               if (name, label, p, rep) in runs]
+                    failed[(law, label)].append("reached the answer: " + (", ".join(reached) or "none"))
+                    print(f"    not compared on {label}: {'; '.join(failed[(law, label)])}", flush=True)
+                    break
                 if rep == 1:                       # agreement check on the first repetition
                     for prog in progs[1:]:
                         dmax = max_diff(runs[(name, label, "softface", 1)]["csv"],
@@ -229,6 +256,11 @@ def main():
                 info[label]["n_nodes"] = int(len(np.unique(gmsh.model.mesh.getElements(3)[2][0])))  # used nodes
                 gmsh.finalize()
     elapsed = time.time() - t_start
+    # A mesh on which a program failed is compared in neither pass of that law.
+    for key in [k for k in runs if (PASSES[k[0]][0], k[1]) in failed]:
+        del runs[key]
+    for key in [k for k in diffs if (PASSES[k[0]][0], k[1]) in failed]:
+        del diffs[key]
 
     for (name, label, prog, rep), r in runs.items():
         law, cores = PASSES[name]
@@ -245,8 +277,8 @@ def main():
         w.writerows(rows)
     one = {(l, p, k): r for (n, l, p, k), r in runs.items() if n == "linear"}
     one_diffs = {(l, p): d for (n, l, p), d in diffs.items() if n == "linear"}
-    report(args, meshes, reps, one, one_diffs, info, elapsed, passes, runs, diffs)
-    plot(args, meshes, reps, one, passes, runs)
+    report(args, meshes, reps, one, one_diffs, info, elapsed, passes, runs, diffs, failed)
+    plot(args, meshes, reps, one, passes, runs, failed)
 
 
 def col(r, phases):
@@ -260,7 +292,7 @@ def stats(runs, label, prog, reps, f):
     return None if vals[0] is None else (min(vals), statistics.median(vals))
 
 
-def report(args, meshes, reps, runs, diffs, info, elapsed, passes, all_runs, all_diffs):
+def report(args, meshes, reps, runs, diffs, info, elapsed, passes, all_runs, all_diffs, failed):
     cpu = next(l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name"))
     # The log holds stdout and then stderr (FFCx's JIT messages on a first run): the JSON line.
     fx = json.loads(next(line for line in reversed(open(os.path.join(
@@ -339,7 +371,7 @@ def report(args, meshes, reps, runs, diffs, info, elapsed, passes, all_runs, all
         L.append("")
     L.append("## What the numbers show (linear, one thread)\n")
     L += summary(meshes, reps, runs, diffs, info)
-    L += more_passes(meshes, reps, passes, all_runs, all_diffs)
+    L += more_passes(meshes, reps, passes, all_runs, all_diffs, failed)
     L.append("Files: peers.csv (one row per pass, program, mesh, repetition and phase, with load average, "
              "iterations, peak memory and the agreement), peers.png (top: median phases stacked per program and "
              "mesh, linear on one thread; bottom: whole process of every pass).\n")
@@ -350,9 +382,13 @@ def median_of(runs, key, reps, f):
     return statistics.median(f(runs[key + (k,)]) for k in range(1, reps + 1))
 
 
-def more_passes(meshes, reps, passes, runs, diffs):
-    """The sections of the passes beyond linear on one thread."""
+def more_passes(meshes, reps, passes, runs, diffs, failed):
+    """The sections of the passes beyond linear on one thread; a mesh on which a program failed
+    is named with the reason instead of compared."""
     L = []
+    not_compared = lambda law, label: (
+        f"| {label} | **not compared**: {'; '.join(failed[(law, label)])} |" if (law, label) in failed
+        else None)
     wall = lambda r: r["wall"]
     def all_cores(law, title):
         if f"{law}-all" not in passes:
@@ -368,6 +404,9 @@ def more_passes(meshes, reps, passes, runs, diffs):
               "| mesh | program | one thread s | all cores s | speed-up | all cores: peer / softface | "
               "max \\|u - u_softface\\| mm |", "|---|---|---:|---:|---:|---:|---:|"]
         for label, _, _, with_ccx in meshes:
+            if not_compared(law, label):
+                L.append(not_compared(law, label) + " | | | | |")
+                continue
             progs = PROGRAMS if with_ccx else PROGRAMS[:2]
             sf = median_of(runs, (f"{law}-all", label, "softface"), reps, wall)
             for prog in progs:
@@ -401,6 +440,9 @@ def more_passes(meshes, reps, passes, runs, diffs):
                           r["wall"] - r["phases"]["model"] - r["phases"]["mesh read"]),
                lambda r: r["wall"]]
         for label, _, _, with_ccx in meshes:
+            if not_compared("svk", label):
+                L.append(not_compared("svk", label) + " | | | | | | | |")
+                continue
             progs = PROGRAMS if with_ccx else PROGRAMS[:2]
             for prog in progs:
                 rs = [runs[("svk", label, prog, k)] for k in range(1, reps + 1)]
@@ -422,7 +464,7 @@ def more_passes(meshes, reps, passes, runs, diffs):
         checks = [(label, median_of(runs, ("svk", label, "softface"), reps,
                                     lambda r: r["phases"].get("stability checks", 0.0)),
                    median_of(runs, ("svk", label, "softface"), reps, lambda r: r["phases"]["model"]))
-                  for label, *_ in meshes]
+                  for label, *_ in meshes if ("svk", label) not in failed]
         L += ["", "softface tests every St. Venant-Kirchhoff equilibrium for stability (a Cholesky "
               "factorisation of the tangent per load step, since CG may pass an indefinite tangent unnoticed); "
               "the peers do not. Its share of softface's model time (median): " +
@@ -477,7 +519,7 @@ def summary(meshes, reps, runs, diffs, info):
     return out
 
 
-def plot(args, meshes, reps, runs, passes, all_runs):
+def plot(args, meshes, reps, runs, passes, all_runs, failed):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -514,6 +556,8 @@ def plot(args, meshes, reps, runs, passes, all_runs):
     for ax, (label, _, _, with_ccx) in zip(axs[1], meshes):
         progs = PROGRAMS if with_ccx else PROGRAMS[:2]
         for i, name in enumerate(passes):
+            if (PASSES[name][0], label) in failed:     # not compared: no bars
+                continue
             x = [j + (i - (len(passes) - 1) / 2) * width for j in range(len(progs))]
             y = [statistics.median(all_runs[(name, label, p, k)]["wall"] for k in range(1, reps + 1))
                  for p in progs]
