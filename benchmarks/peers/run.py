@@ -309,7 +309,9 @@ def report(args, meshes, reps, runs, diffs, info, elapsed, passes, all_runs, all
         args.work, "warmup", "fenicsx", "fenicsx.log")).read().splitlines()) if line.startswith("{")))
     ccxv = subprocess.run(["ccx", "-v"], capture_output=True, text=True).stdout.strip().splitlines()[-1].replace("This is ", "")
     git = subprocess.run(["git", "-C", HERE, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "-C", HERE, "status", "--porcelain", "--untracked-files=no"],
+    # The results this run writes do not count as changes to what it ran.
+    dirty = subprocess.run(["git", "-C", HERE, "status", "--porcelain", "--untracked-files=no", "--",
+                            "../..", ":!../../doc/results"],
                            capture_output=True, text=True).stdout.strip()
     loads = [r["load"] for r in all_runs.values()]
     shared = max(loads) > 1.5
