@@ -8,11 +8,13 @@
 #include <deal.II/grid/tria_iterator.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
+#include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/vertex_constraints.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numeric>
 
 namespace softface
@@ -98,24 +100,33 @@ namespace softface
     eliminate_join_dofs(const std::vector<bool> &is_join,
                         SparseMatrix<double>    &matrix)
     {
-      for (unsigned int row = 0; row < matrix.m(); ++row)
-        {
-          for (auto entry = matrix.begin(row); entry != matrix.end(row);
-               ++entry)
-            if ((is_join[row] || is_join[entry->column()]) &&
-                entry->column() != row)
-              entry->value() = 0.;
-          // A join DoF keeps the size of its diagonal entry (the solvers'
-          // scaling) but not its sign: under strong compression it can be
-          // negative, and the matrix must be positive definite exactly when
-          // its free block is. 1 for a join DoF whose cells were all left
-          // out (see right_hand_side).
-          if (is_join[row])
-            {
-              double &diagonal = matrix.diag_element(row);
-              diagonal         = diagonal != 0. ? std::abs(diagonal) : 1.;
-            }
-        }
+      // Rows in ranges on the threads (Newton eliminates on every tangent):
+      // every entry is set on its own, so the matrix is the same on any
+      // number of threads.
+      const unsigned int n_rows  = matrix.m();
+      const unsigned int n_tasks = std::min(n_rows, 8 * Threads::n_threads());
+      Threads::run_tasks(n_tasks, [&](const unsigned int task) {
+        const unsigned int begin = std::uint64_t(n_rows) * task / n_tasks;
+        const unsigned int end   = std::uint64_t(n_rows) * (task + 1) / n_tasks;
+        for (unsigned int row = begin; row < end; ++row)
+          {
+            for (auto entry = matrix.begin(row); entry != matrix.end(row);
+                 ++entry)
+              if ((is_join[row] || is_join[entry->column()]) &&
+                  entry->column() != row)
+                entry->value() = 0.;
+            // A join DoF keeps the size of its diagonal entry (the solvers'
+            // scaling) but not its sign: under strong compression it can be
+            // negative, and the matrix must be positive definite exactly
+            // when its free block is. 1 for a join DoF whose cells were all
+            // left out (see right_hand_side).
+            if (is_join[row])
+              {
+                double &diagonal = matrix.diag_element(row);
+                diagonal         = diagonal != 0. ? std::abs(diagonal) : 1.;
+              }
+          }
+      });
     }
 
     void
