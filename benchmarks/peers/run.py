@@ -562,7 +562,8 @@ def plot(args, meshes, reps, runs, passes, all_runs, failed):
         for hh, ll in zip(*ax.get_legend_handles_labels()):
             if ll not in l:
                 h.append(hh); l.append(ll)
-    fig.legend(h, l, fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.53), ncol=len(l))
+    # Between the rows, below the top row's program names.
+    fig.legend(h, l, fontsize=8, loc="center", bbox_to_anchor=(0.5, 0.475), ncol=len(l))
     # Bottom row: the whole process of every pass, programs side by side.
     width = 0.8 / len(passes)
     for ax, (label, _, _, with_ccx) in zip(axs[1], meshes):
@@ -582,7 +583,7 @@ def plot(args, meshes, reps, runs, passes, all_runs, failed):
         ax.legend(fontsize=7)
     fig.suptitle("Top: linear elasticity, one thread, whole process split into phases; bottom: whole "
                  "process of every pass (medians of %d)" % reps, fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 0.97), h_pad=4)
+    fig.tight_layout(rect=(0, 0, 1, 0.97), h_pad=6)
     fig.savefig(os.path.join(args.results, "peers.png"), dpi=120)
 
 
