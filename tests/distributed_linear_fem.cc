@@ -106,7 +106,9 @@ SOFTFACE_TEST(distributed_linear_fem)
   // Sliding contact is not distributed yet: one message on every rank.
   Scene sliding;
   make_cube_scene(sliding, 3000);
-  sliding.effects.vertex_constraints.push_back({0});
+  VertexConstraint constraint;
+  constraint.vertex = 0;
+  sliding.effects.vertex_constraints.push_back(constraint);
   const DistributedLayout layout(sliding, MPI_COMM_WORLD);
   try
     {

@@ -35,15 +35,31 @@ namespace softface
       , triangulation(communicator)
   {
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    // A coarse cell id is the serial cell's active index only on an
+    // unrefined mesh (softface's meshes are).
+    AssertThrow(scene.triangulation.n_levels() == 1,
+                ExcMessage("A refined mesh cannot be distributed yet."));
 
     // A copy of the serial mesh whose subdomain ids name each cell's rank:
     // the scene's own mesh stays as the serial models use it.
     Triangulation<3> partitioned;
     partitioned.copy_triangulation(scene.triangulation);
     if (partitioner == Partitioner::metis && n_ranks > 1)
-      GridTools::partition_triangulation(n_ranks,
-                                         partitioned,
-                                         SparsityTools::Partitioner::metis);
+      {
+        // METIS on rank 0 only, its owners sent to all: every rank must
+        // build its description from the same partition.
+        std::vector<unsigned int> owner(partitioned.n_active_cells());
+        if (Utilities::MPI::this_mpi_process(communicator) == 0)
+          {
+            GridTools::partition_triangulation(
+              n_ranks, partitioned, SparsityTools::Partitioner::metis);
+            for (const auto &cell : partitioned.active_cell_iterators())
+              owner[cell->active_cell_index()] = cell->subdomain_id();
+          }
+        owner = Utilities::MPI::broadcast(communicator, owner);
+        for (const auto &cell : partitioned.active_cell_iterators())
+          cell->set_subdomain_id(owner[cell->active_cell_index()]);
+      }
     else
       {
         const std::uint64_t n_cells = partitioned.n_active_cells();

@@ -23,6 +23,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include <array>
+#include <cmath>
 #include <sstream>
 
 namespace softface
@@ -81,6 +82,9 @@ namespace softface
       FullMatrix<double>                   cell_matrix(12, 12);
       Vector<double>                       cell_rhs(12);
       std::vector<types::global_dof_index> dofs(12);
+      // The stiffness's diagonal, for the serial model's right-hand side
+      // norm (below).
+      TrilinosWrappers::MPI::Vector diagonal(owned, comm);
       for (const auto &cell : layout.dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
@@ -99,8 +103,11 @@ namespace softface
             cell_rhs = 0.;
             constraints.distribute_local_to_global(
               cell_matrix, cell_rhs, dofs, stiffness, rhs);
+            for (unsigned int i = 0; i < 12; ++i)
+              diagonal[dofs[i]] += cell_matrix(i, i);
           }
       stiffness.compress(VectorOperation::add);
+      diagonal.compress(VectorOperation::add);
       // The scene's nodal body force (gravity) on the free DoFs.
       if (scene.has_body_force())
         for (const auto dof : owned)
@@ -140,10 +147,25 @@ namespace softface
         amg.initialize(stiffness, list);
       }
 
+      // The relative tolerance means what it means in the serial model,
+      // whose right-hand side holds |K_jj| u_j on the join rows as well
+      // (ConstrainedSystem::right_hand_side), where this one holds 0.
+      double join_rows = 0.;
+      for (const auto dof : owned)
+        if (constraints.is_constrained(dof))
+          {
+            const double d = diagonal[dof] != 0. ? std::abs(diagonal[dof]) : 1.;
+            join_rows +=
+              Utilities::fixed_power<2>(d * prescribed[layout.serial_dof(dof)]);
+          }
+      const double serial_rhs_norm =
+        std::sqrt(Utilities::fixed_power<2>(rhs.l2_norm()) +
+                  Utilities::MPI::sum(join_rows, comm));
+
       Result                                  result;
       TrilinosWrappers::MPI::Vector           solution(owned, comm);
       SolverControl                           control(parameters.max_iterations,
-                            parameters.relative_tolerance * rhs.l2_norm(),
+                            parameters.relative_tolerance * serial_rhs_norm,
                             /*log_history=*/false,
                             /*log_result=*/false);
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
@@ -161,7 +183,7 @@ namespace softface
       stiffness.vmult(residual, solution);
       residual -= rhs;
       result.relative_residual =
-        rhs.l2_norm() > 0. ? residual.l2_norm() / rhs.l2_norm() : 0.;
+        serial_rhs_norm > 0. ? residual.l2_norm() / serial_rhs_norm : 0.;
       if (!result.converged)
         {
           std::ostringstream m;

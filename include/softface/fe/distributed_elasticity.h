@@ -33,7 +33,8 @@ namespace softface
     /**
      * Solve with the join DoFs moved by @p prescribed (serial layout, as
      * Planning::prescribed_displacement() gives it) to @p parameters'
-     * relative tolerance. Collective; throws the same error on every rank
+     * relative tolerance, of the same right-hand side norm as the serial
+     * model's. Collective; throws the same error on every rank
      * when the scene has an effect this solve does not honour or CG does not
      * converge.
      */
