@@ -77,7 +77,7 @@ SOFTFACE_TEST(distributed_linear_fem)
   // Two tissues (the upper half stiffer), without and with gravity: the
   // body force must change the answer, or its branch would go untested.
   const auto make_layered = [](Scene &scene, const bool with_gravity) {
-    make_two_material_cube_scene(scene, 3000, 3);
+    make_cube_scene(scene, 3000, 3);
     apply_effect(scene,
                  "heterogeneous tissue",
                  {{"Young's moduli", "1: 3000, 3: 12000"},

@@ -62,7 +62,7 @@ namespace
 SOFTFACE_TEST(effects_two_material_cube)
 {
   const auto make = [](Scene &scene) {
-    softface_tests::make_two_material_cube_scene(scene, 3000, 3);
+    softface_tests::make_cube_scene(scene, 3000, 3);
   };
   Scene plain, same, stiffer, scaled;
   make(plain);

@@ -16,32 +16,22 @@ namespace softface_tests
   using namespace softface;
 
   /// The seed's cube: outer faces held (segment 0, "fixed"), inner cube
-  /// (segment 1, "bone") free to be moved by a planning.
+  /// (segment 1, "bone") free to be moved by a planning. The upper half
+  /// (z > 40) has material id @p upper_material_id (for two tissues), the
+  /// rest of the tissue 1.
   inline void
-  make_cube_scene(Scene &scene, const unsigned int target_n_tetrahedra)
-  {
-    Mesh::CubeParameters cube;
-    cube.target_n_tetrahedra = target_n_tetrahedra;
-    Mesh::generate_cube(cube, scene.triangulation);
-    scene.mesh_description = "generated cube";
-    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                              {"bone", {Mesh::cube_inner_id}, {}, {}}};
-    scene.setup();
-  }
-
-  /// The seed's cube whose upper half (z > 40) has material id
-  /// @p upper_material_id (the rest 1), for two tissues.
-  inline void
-  make_two_material_cube_scene(Scene                   &scene,
-                               const unsigned int       target_n_tetrahedra,
-                               const types::material_id upper_material_id)
+  make_cube_scene(
+    Scene                   &scene,
+    const unsigned int       target_n_tetrahedra,
+    const types::material_id upper_material_id = Mesh::cube_tissue_id)
   {
     Mesh::CubeParameters cube;
     cube.target_n_tetrahedra = target_n_tetrahedra;
     cube.upper_material_id   = upper_material_id;
     Mesh::generate_cube(cube, scene.triangulation);
-    scene.segments = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                      {"bone", {Mesh::cube_inner_id}, {}, {}}};
+    scene.mesh_description = "generated cube";
+    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                              {"bone", {Mesh::cube_inner_id}, {}, {}}};
     scene.setup();
   }
 

@@ -188,10 +188,9 @@ class Progress:
     def elapsed(self):
         return f"elapsed {(time.time() - self.start) / 60:.1f} min"
 
-    def step(self, label, cost):
+    def step(self, label):
         self.i += 1
         print(f"[{self.i}/{self.n}] {label} ({self.elapsed()})", flush=True)
-        self.done += cost
 
     def finish(self, label, cost):
         self.done += cost
@@ -372,7 +371,7 @@ def run_cases(todo, jobs, progress):
                 return
             try:
                 with cond:
-                    progress.step(case["label"] + " started", 0)
+                    progress.step(case["label"] + " started")
                 run_softface(case["prm"], case["output"])
                 if state["error"] is None:
                     ok, message = case_outcome(case["output"])

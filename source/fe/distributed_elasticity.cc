@@ -135,8 +135,8 @@ namespace softface
       Point<3> centroid;
       for (const auto &p : points)
         centroid += p;
-      for (unsigned int d = 0; d < 3; ++d)
-        centroid[d] = Utilities::MPI::sum(centroid[d], comm);
+      centroid = Point<3>(
+        Utilities::MPI::sum(static_cast<const Tensor<1, 3> &>(centroid), comm));
       centroid /=
         std::max<types::global_dof_index>(layout.dof_handler.n_dofs(), 1);
       TrilinosWrappers::PreconditionAMG amg;
