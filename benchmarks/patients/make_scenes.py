@@ -117,6 +117,24 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
     chin = [0.0, symphysis[1], symphysis[2] - 6.0]
     ramus = [48.0 * W, 12.0, -30.0]
     g_box_y = symphysis[1] + 45.0
+    # A setback moves the mandible's body backwards into the rami across the
+    # splits. The surgeon trims the overlapping bone and strips the tissue
+    # around it; a frontal cut with the 3 mm margin of the other cuts would
+    # crush the tissue pinned to both parts instead (every Neo-Hooke model
+    # then inverts tetrahedra there before full load). The splits' margin is
+    # the setback plus 2 mm.
+    setback = max(0.0, motions.get("mandible", (0, 0, 0))[1])
+    setback_comment, setback_margin = [], []
+    if setback > 0:
+        margin = round(setback + 2.0, 1)
+        setback_comment = [
+            f"      # A setback of {setback:g} mm: the surgeon trims the bone "
+            "that the",
+            "      # body pushes into the rami and strips the tissue around "
+            "it; the",
+            "      # splits' detached margin is the setback plus 2 mm.",
+        ]
+        setback_margin = [f"        set Detached margin = {margin:g}"]
     lines = [f"# {comment}", "#",
              "# Written by benchmarks/patients/make_scenes.py; run with",
              f"#   ./run.sh prm/patients/{name}.prm", ""]
@@ -175,15 +193,18 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         "      end",
         "      # The sagittal splits, simplified to frontal planes through the",
         "      # mandibular body in front of the gonial angles.",
+    ] + setback_comment + [
         "      subsection Cut bsso right",
         "        set Point  = 0, -5, 0",
         "        set Normal = 0, 1, 0",
         "        set Box    = -80, -20, -95; -20, 10, -25",
+    ] + setback_margin + [
         "      end",
         "      subsection Cut bsso left",
         "        set Point  = 0, -5, 0",
         "        set Normal = 0, 1, 0",
         "        set Box    = 20, -20, -95; 80, 10, -25",
+    ] + setback_margin + [
         "      end",
         "      subsection Cut genioplasty",
         "        set Type            = swept polyline",

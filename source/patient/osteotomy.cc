@@ -111,7 +111,7 @@ namespace softface
                   const double d = cut.distance(x);
                   if (d < 0.5 * kerf)
                     state[v] = 2;
-                  if (d < prm.detached_margin)
+                  if (d < cut.detached_margin)
                     detached[v] = true;
                 }
             }

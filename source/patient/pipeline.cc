@@ -362,6 +362,10 @@ namespace softface
             inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
           for (const auto &v : cut.polyline)
             inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
+          // Only a margin of the cut's own, so that the stamps of scenes
+          // made before cuts had one still hold.
+          if (cut.detached_margin != prm.osteotomy.detached_margin)
+            inputs << " margin " << cut.detached_margin;
           inputs << '\n';
         }
       inputs << prm.osteotomy.kerf << ' ' << prm.osteotomy.detached_margin

@@ -28,6 +28,9 @@ namespace softface
       Vec3              sweep{{1., 0., 0.}};
       Vec3              box_min{{-1e9, -1e9, -1e9}};
       Vec3              box_max{{1e9, 1e9, 1e9}};
+      /// mm: bone this close to the cut holds no soft tissue (its own
+      /// 'Detached margin', or else the osteotomy's).
+      double detached_margin = 3.;
 
       /// Distance of @p x to the cut surface (mm); infinite outside its box.
       double
@@ -47,7 +50,8 @@ namespace softface
 
       std::vector<Cut> cuts;
       double           kerf = 1.5; ///< mm, width of a saw cut
-      /// mm: bone this close to a cut holds no soft tissue (detached_part).
+      /// mm: bone this close to a cut holds no soft tissue (detached_part),
+      /// for the cuts that do not set their own.
       double detached_margin = 3.;
       double min_part_volume = 500.; ///< mm^3
     };
@@ -69,8 +73,8 @@ namespace softface
      * bone within 5 mm of it) is that segment's. Returns a volume with s + 1
      * on every bone voxel of segment s; kerf voxels and pieces smaller than
      * 'Minimum part volume' go to the nearest part through the bone.
-     * Bone within 'Detached margin' of a cut then gets detached_part: the
-     * soft tissue touching it is free.
+     * Bone within a cut's detached margin then gets detached_part: the soft
+     * tissue touching it is free.
      * Throws an Error when a seed is not in bone, when two segments fall in
      * one piece (a cut does not separate them), or when a piece larger than
      * the minimum volume belongs to no segment.

@@ -639,6 +639,15 @@ namespace softface
                             Patterns::Anything(),
                             "The cut acts only inside this box 'xmin, ymin, "
                             "zmin; xmax, ymax, zmax' (mm); empty: everywhere.");
+          prm.declare_entry("Detached margin",
+                            "",
+                            Patterns::Anything(),
+                            "This cut's detached margin (mm), where the "
+                            "surgery lifts more or less tissue than along "
+                            "the other cuts: a setback by sagittal split "
+                            "strips the ramus and trims the overlapping "
+                            "bone. Empty: the osteotomy's 'Detached "
+                            "margin'.");
           prm.leave_subsection();
         }
       prm.leave_subsection();
@@ -700,6 +709,17 @@ namespace softface
           else if (!box.empty())
             throw Error(where + "/Box: expected 'xmin, ymin, zmin; xmax, ymax, "
                                 "zmax'.");
+          cut.detached_margin      = detached_margin;
+          const std::string margin = prm.get("Detached margin");
+          if (!margin.empty())
+            {
+              if (!Patterns::Double(0., 50.).match(margin))
+                throw Error(where +
+                            "/Detached margin: expected a distance "
+                            "from 0 to 50 mm or nothing (got '" +
+                            margin + "').");
+              cut.detached_margin = dealii::Utilities::string_to_double(margin);
+            }
           prm.leave_subsection();
           cuts.push_back(cut);
         }
