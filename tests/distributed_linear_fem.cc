@@ -30,6 +30,7 @@ namespace
           const DistributedLayout::Partitioner partitioner)
   {
     Models::LinearFEM serial;
+    serial.set_communicator(MPI_COMM_SELF);
     serial.set_solver("cg amg", 1e-12);
     serial.setup(scene);
     Vector<double> expected;

@@ -6,6 +6,8 @@
 
 #include <softface/core/threads.h>
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <cstdlib>
 
@@ -25,14 +27,42 @@ namespace softface
 
   namespace Threads
   {
+    namespace
+    {
+      // The MPI ranks on this machine (1 without MPI).
+      unsigned int
+      ranks_on_this_machine()
+      {
+        int initialised = 0;
+        MPI_Initialized(&initialised);
+        int size = 1;
+        if (initialised)
+          MPI_Comm_size(MPI_COMM_WORLD, &size);
+        if (size == 1)
+          return 1;
+        MPI_Comm machine;
+        MPI_Comm_split_type(
+          MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &machine);
+        MPI_Comm_size(machine, &size);
+        MPI_Comm_free(&machine);
+        return size;
+      }
+    } // namespace
+
     void
     set_limit(const unsigned int n)
     {
       // More threads than cores only split the work finer (a scene asking
-      // for 100000 made as many assembly parts).
+      // for 100000 made as many assembly parts); ranks on one machine share
+      // its cores.
       const unsigned int cores = dealii::MultithreadInfo::n_cores();
-      dealii::MultithreadInfo::set_thread_limit(
-        n == 0 ? dealii::numbers::invalid_unsigned_int : std::min(n, cores));
+      const unsigned int ranks = ranks_on_this_machine();
+      if (n == 0)
+        dealii::MultithreadInfo::set_thread_limit(
+          ranks == 1 ? dealii::numbers::invalid_unsigned_int :
+                       std::max(1u, cores / ranks));
+      else
+        dealii::MultithreadInfo::set_thread_limit(std::min(n, cores));
     }
 
     unsigned int

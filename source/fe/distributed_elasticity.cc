@@ -1,7 +1,7 @@
 // Linear elasticity on several MPI ranks (issue 20, a first step): the
 // linear FEM model's stiffness assembled on each rank's cells into a Trilinos
-// matrix, the join DoFs prescribed by AffineConstraints, CG with the serial
-// model's ML. See fe/distributed_elasticity.h.
+// matrix with the join DoFs' rows and columns eliminated (AffineConstraints),
+// CG with the serial model's ML. See fe/distributed_elasticity.h.
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -30,14 +30,51 @@ namespace softface
 {
   namespace DistributedElasticity
   {
-    Result
-    solve_linear(const DistributedLayout        &layout,
-                 const Vector<double>           &prescribed,
-                 const LinearSolver::Parameters &parameters)
+    namespace
     {
-      const Scene    &scene = layout.scene;
-      const MPI_Comm  comm  = layout.communicator;
-      const IndexSet &owned = layout.locally_owned_dofs;
+      // The cell's stiffness from the scene's cell (the serial model's
+      // element matrix, bit for bit) and its tissue; rows and columns in
+      // the order vertex, component, as @p dofs.
+      void
+      cell_stiffness(const DistributedLayout                   &layout,
+                     const std::vector<Tensor<4, 3>>           &A,
+                     const DoFHandler<3>::active_cell_iterator &cell,
+                     FullMatrix<double>                        &cell_matrix,
+                     std::vector<types::global_dof_index>      &dofs)
+      {
+        const auto serial = layout.serial_cell(cell);
+        const auto K      = Elasticity::p1_stiffness(
+          Tetrahedron::geometry(Tetrahedron::vertices(serial)),
+          A[layout.scene.tissue_of_cell(serial->active_cell_index())]);
+        for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int i = 0; i < 3; ++i)
+            {
+              dofs[3 * a + i] = cell->vertex_dof_index(a, i);
+              for (unsigned int b = 0; b < 4; ++b)
+                for (unsigned int k = 0; k < 3; ++k)
+                  cell_matrix(3 * a + i, 3 * b + k) = K[a][b][i][k];
+            }
+      }
+
+      std::vector<Tensor<4, 3>>
+      tangents(const Scene &scene)
+      {
+        std::vector<Tensor<4, 3>> A;
+        for (unsigned int t = 0; t < scene.n_tissues(); ++t)
+          A.push_back(Elasticity::linear_tangent(scene.tissue(t).lame()));
+        return A;
+      }
+    } // namespace
+
+    void
+    LinearSystem::assemble(const DistributedLayout        &layout_in,
+                           const LinearSolver::Parameters &parameters_in)
+    {
+      layout                = &layout_in;
+      parameters            = parameters_in;
+      const Scene    &scene = layout->scene;
+      const MPI_Comm  comm  = layout->communicator;
+      const IndexSet &owned = layout->locally_owned_dofs;
       // Every rank holds the same scene, so every rank refuses alike.
       if (scene.has_vertex_constraints())
         throw Error("Linear elasticity on several MPI ranks does not honour "
@@ -48,79 +85,58 @@ namespace softface
                     "amg' only, not '" +
                     parameters.method + "'.");
 
-      // The join DoFs take the planning's displacement.
-      AffineConstraints<double> constraints(layout.locally_relevant_dofs);
-      for (const auto dof : layout.locally_relevant_dofs)
-        if (layout.is_join_dof(dof))
-          {
-            constraints.add_line(dof);
-            constraints.set_inhomogeneity(dof,
-                                          prescribed[layout.serial_dof(dof)]);
-          }
-      constraints.close();
+      // The join DoFs' rows and columns leave the matrix (their values, the
+      // planning's, enter each solve's right-hand side).
+      join_rows.clear();
+      join_rows.reinit(layout->locally_relevant_dofs);
+      for (const auto dof : layout->locally_relevant_dofs)
+        if (layout->is_join_dof(dof))
+          join_rows.add_line(dof);
+      join_rows.close();
 
       TrilinosWrappers::SparsityPattern sparsity(owned,
                                                  owned,
-                                                 layout.locally_relevant_dofs,
+                                                 layout->locally_relevant_dofs,
                                                  comm);
-      DoFTools::make_sparsity_pattern(layout.dof_handler,
+      DoFTools::make_sparsity_pattern(layout->dof_handler,
                                       sparsity,
-                                      constraints,
+                                      join_rows,
                                       /*keep_constrained_dofs=*/false,
                                       Utilities::MPI::this_mpi_process(comm));
       sparsity.compress();
-      TrilinosWrappers::SparseMatrix stiffness;
       stiffness.reinit(sparsity);
-      TrilinosWrappers::MPI::Vector rhs(owned, comm);
 
-      // Each cell's stiffness from the scene's cell (the serial model's
-      // element matrix, bit for bit) and its tissue; rows and columns in the
-      // order vertex, component.
-      std::vector<Tensor<4, 3>> A;
-      for (unsigned int t = 0; t < scene.n_tissues(); ++t)
-        A.push_back(Elasticity::linear_tangent(scene.tissue(t).lame()));
+      const auto                           A = tangents(scene);
       FullMatrix<double>                   cell_matrix(12, 12);
-      Vector<double>                       cell_rhs(12);
       std::vector<types::global_dof_index> dofs(12);
       // The stiffness's diagonal, for the serial model's right-hand side
-      // norm (below).
-      TrilinosWrappers::MPI::Vector diagonal(owned, comm);
-      for (const auto &cell : layout.dof_handler.active_cell_iterators())
+      // norm (solve()).
+      diagonal.reinit(owned, comm);
+      for (const auto &cell : layout->dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
           {
-            const auto serial = layout.serial_cell(cell);
-            const auto K      = Elasticity::p1_stiffness(
-              Tetrahedron::geometry(Tetrahedron::vertices(serial)),
-              A[scene.tissue_of_cell(serial->active_cell_index())]);
-            for (unsigned int a = 0; a < 4; ++a)
-              for (unsigned int i = 0; i < 3; ++i)
-                {
-                  dofs[3 * a + i] = cell->vertex_dof_index(a, i);
-                  for (unsigned int b = 0; b < 4; ++b)
-                    for (unsigned int k = 0; k < 3; ++k)
-                      cell_matrix(3 * a + i, 3 * b + k) = K[a][b][i][k];
-                }
-            cell_rhs = 0.;
-            constraints.distribute_local_to_global(
-              cell_matrix, cell_rhs, dofs, stiffness, rhs);
+            cell_stiffness(*layout, A, cell, cell_matrix, dofs);
+            join_rows.distribute_local_to_global(cell_matrix, dofs, stiffness);
             for (unsigned int i = 0; i < 12; ++i)
               diagonal[dofs[i]] += cell_matrix(i, i);
           }
       stiffness.compress(VectorOperation::add);
       diagonal.compress(VectorOperation::add);
-      // The scene's nodal body force (gravity) on the free DoFs.
-      if (scene.has_body_force())
-        for (const auto dof : owned)
-          if (!constraints.is_constrained(dof))
-            rhs[dof] += scene.effects.body_force[layout.serial_dof(dof)];
-      rhs.compress(VectorOperation::add);
+      amg.reset();
+    }
 
+    void
+    LinearSystem::build_preconditioner()
+    {
+      Assert(layout != nullptr, ExcMessage("LinearSystem::assemble() first."));
+      const MPI_Comm  comm  = layout->communicator;
+      const IndexSet &owned = layout->locally_owned_dofs;
       // ML as the serial model builds it: the owned DoFs' points and
       // components, rotations about the centroid of all vertices.
       std::vector<Point<3>>     points(owned.n_elements());
       std::vector<unsigned int> component(owned.n_elements(),
                                           numbers::invalid_unsigned_int);
-      for (const auto &cell : layout.dof_handler.active_cell_iterators())
+      for (const auto &cell : layout->dof_handler.active_cell_iterators())
         if (!cell->is_artificial())
           for (const unsigned int v : cell->vertex_indices())
             for (unsigned int c = 0; c < 3; ++c)
@@ -138,29 +154,71 @@ namespace softface
       centroid = Point<3>(
         Utilities::MPI::sum(static_cast<const Tensor<1, 3> &>(centroid), comm));
       centroid /=
-        std::max<types::global_dof_index>(layout.dof_handler.n_dofs(), 1);
-      TrilinosWrappers::PreconditionAMG amg;
-      {
-        Teuchos::ParameterList list;
-        const auto             null_space = LinearSolver::amg_parameters(
-          parameters, stiffness, points, component, centroid, list);
-        amg.initialize(stiffness, list);
-      }
+        std::max<types::global_dof_index>(layout->dof_handler.n_dofs(), 1);
+      amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+      Teuchos::ParameterList list;
+      const auto             null_space = LinearSolver::amg_parameters(
+        parameters, stiffness, points, component, centroid, list);
+      amg->initialize(stiffness, list);
+    }
+
+    Result
+    LinearSystem::solve(const Vector<double> &prescribed) const
+    {
+      Assert(amg != nullptr,
+             ExcMessage("LinearSystem::build_preconditioner() first."));
+      const Scene    &scene = layout->scene;
+      const MPI_Comm  comm  = layout->communicator;
+      const IndexSet &owned = layout->locally_owned_dofs;
+
+      // -K_fj u_j on the free rows, from each cell's stiffness and the
+      // planning's join values (the constraints' inhomogeneities).
+      AffineConstraints<double> joins(layout->locally_relevant_dofs);
+      for (const auto dof : layout->locally_relevant_dofs)
+        if (join_rows.is_constrained(dof))
+          {
+            joins.add_line(dof);
+            joins.set_inhomogeneity(dof, prescribed[layout->serial_dof(dof)]);
+          }
+      joins.close();
+      TrilinosWrappers::MPI::Vector        rhs(owned, comm);
+      const auto                           A = tangents(scene);
+      FullMatrix<double>                   cell_matrix(12, 12);
+      Vector<double>                       cell_rhs(12);
+      std::vector<types::global_dof_index> dofs(12);
+      for (const auto &cell : layout->dof_handler.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            bool touches_join = false;
+            for (const unsigned int v : cell->vertex_indices())
+              touches_join |=
+                joins.is_constrained(cell->vertex_dof_index(v, 0));
+            if (!touches_join)
+              continue;
+            cell_stiffness(*layout, A, cell, cell_matrix, dofs);
+            joins.distribute_local_to_global(cell_rhs, dofs, rhs, cell_matrix);
+          }
+      // The scene's nodal body force (gravity) on the free DoFs.
+      if (scene.has_body_force())
+        for (const auto dof : owned)
+          if (!joins.is_constrained(dof))
+            rhs[dof] += scene.effects.body_force[layout->serial_dof(dof)];
+      rhs.compress(VectorOperation::add);
 
       // The relative tolerance means what it means in the serial model,
       // whose right-hand side holds |K_jj| u_j on the join rows as well
       // (ConstrainedSystem::right_hand_side), where this one holds 0.
-      double join_rows = 0.;
+      double join_norm = 0.;
       for (const auto dof : owned)
-        if (constraints.is_constrained(dof))
+        if (joins.is_constrained(dof))
           {
             const double d = diagonal[dof] != 0. ? std::abs(diagonal[dof]) : 1.;
-            join_rows +=
-              Utilities::fixed_power<2>(d * prescribed[layout.serial_dof(dof)]);
+            join_norm += Utilities::fixed_power<2>(
+              d * prescribed[layout->serial_dof(dof)]);
           }
       const double serial_rhs_norm =
         std::sqrt(Utilities::fixed_power<2>(rhs.l2_norm()) +
-                  Utilities::MPI::sum(join_rows, comm));
+                  Utilities::MPI::sum(join_norm, comm));
 
       Result                                  result;
       TrilinosWrappers::MPI::Vector           solution(owned, comm);
@@ -171,7 +229,7 @@ namespace softface
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
       try
         {
-          cg.solve(stiffness, solution, rhs, amg);
+          cg.solve(stiffness, solution, rhs, *amg);
           result.converged = true;
         }
       catch (const SolverControl::NoConvergence &)
@@ -193,9 +251,20 @@ namespace softface
             << ").";
           throw Error(m.str());
         }
-      constraints.distribute(solution);
-      result.displacement = layout.gather(solution);
+      joins.distribute(solution);
+      result.displacement = layout->gather(solution);
       return result;
+    }
+
+    Result
+    solve_linear(const DistributedLayout        &layout,
+                 const Vector<double>           &prescribed,
+                 const LinearSolver::Parameters &parameters)
+    {
+      LinearSystem system;
+      system.assemble(layout, parameters);
+      system.build_preconditioner();
+      return system.solve(prescribed);
     }
   } // namespace DistributedElasticity
 } // namespace softface

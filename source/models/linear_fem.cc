@@ -2,8 +2,10 @@
 // layout, assembled once per scene with the join DoFs eliminated, and one
 // linear solve per planning (fe/linear_solver.h).
 
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/fe/constrained_system.h>
+#include <softface/fe/distributed_elasticity.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/linear_fem.h>
 
@@ -13,6 +15,18 @@ namespace softface
 {
   namespace Models
   {
+    LinearFEM::LinearFEM()
+        : communicator(MPI_COMM_WORLD)
+    {}
+
+    LinearFEM::~LinearFEM() = default;
+
+    void
+    LinearFEM::set_communicator(const MPI_Comm communicator_in)
+    {
+      communicator = communicator_in;
+    }
+
     void
     LinearFEM::declare_parameters(ParameterHandler &prm)
     {
@@ -74,6 +88,13 @@ namespace softface
     LinearFEM::do_setup(const Scene &scene_in)
     {
       scene = &scene_in;
+      distributed.reset();
+      layout.reset();
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1)
+        {
+          setup_distributed();
+          return;
+        }
       {
         const auto timed = phase("sparsity");
         ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
@@ -113,10 +134,49 @@ namespace softface
     }
 
     void
+    LinearFEM::setup_distributed()
+    {
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      if (solver_parameters.method != "cg amg")
+        throw Error("linear fem: on " + std::to_string(n_ranks) +
+                    " MPI ranks the solver is 'cg amg' only (a '" +
+                    solver_parameters.method +
+                    "' solve is not distributed); set Models/linear fem/Solver "
+                    "= cg amg or run on one rank.");
+      if (scene->has_vertex_constraints())
+        throw Error("linear fem: sliding contact and separated lips are not "
+                    "distributed yet; run this scene on one rank.");
+      if (nodal_forces.size() > 0)
+        throw Error("linear fem: nodal forces are not distributed yet.");
+      {
+        const auto timed = phase("partition");
+        layout = std::make_unique<DistributedLayout>(*scene, communicator);
+      }
+      distributed = std::make_unique<DistributedElasticity::LinearSystem>();
+      {
+        const auto timed = phase("assemble");
+        distributed->assemble(*layout, solver_parameters);
+      }
+      const auto timed = phase("preconditioner");
+      distributed->build_preconditioner();
+      add_detail("MPI ranks", n_ranks);
+    }
+
+    void
     LinearFEM::do_solve(const Vector<double> &prescribed,
                         Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("LinearFEM::setup() first."));
+      if (distributed)
+        {
+          const auto timed  = phase("solve");
+          auto       result = distributed->solve(prescribed);
+          displacement.swap(result.displacement);
+          set_iterations(result.iterations);
+          set_residual(result.relative_residual);
+          return;
+        }
       const std::vector<bool> &is_join = scene->join_dofs();
       const unsigned int       n       = is_join.size();
 
@@ -207,6 +267,8 @@ namespace softface
     const SparseMatrix<double> &
     LinearFEM::stiffness_matrix() const
     {
+      Assert(!distributed,
+             ExcMessage("A distributed linear fem holds no serial matrix."));
       return stiffness;
     }
 

@@ -2,6 +2,7 @@
 // scene and the planning, runs the selected models side by side (a failing
 // model is reported and the others go on), and writes the report and fields.
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
@@ -35,9 +36,25 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <streambuf>
 
 namespace softface
 {
+  namespace
+  {
+    // What the ranks other than 0 print goes nowhere, without failing the
+    // stream (deal.II's writers check it).
+    class SilentBuffer : public std::streambuf
+    {
+    protected:
+      int
+      overflow(const int c) override
+      {
+        return traits_type::not_eof(c);
+      }
+    };
+  } // namespace
+
   namespace
   {
     struct OutputParameters
@@ -214,6 +231,9 @@ namespace softface
     std::unique_ptr<PointEvaluation> evaluation;
     SkinParameters                   skin_parameters;
     std::unique_ptr<SkinOutput>      skin;
+    // On several MPI ranks every rank runs the scene; rank 0 alone writes
+    // the outputs.
+    bool writes_outputs = true;
   };
 
   Simulator::Simulator()  = default;
@@ -272,6 +292,29 @@ namespace softface
     state                 = std::make_unique<Prepared>();
     ParameterHandler &prm = state->prm;
     read_parameters(filename, prm);
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+    state->writes_outputs =
+      Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    if (n_ranks > 1)
+      {
+        // Every rank builds the scene as a serial run does; a patient's
+        // stages and the skin write files while they do (issue 20).
+        prm.enter_subsection("Scene");
+        const bool patient = prm.get("Mesh source") == "patient";
+        prm.leave_subsection();
+        prm.enter_subsection("Skin");
+        const std::string skin_surface = prm.get("Skin surface");
+        prm.leave_subsection();
+        if (patient || (skin_surface != "auto" && skin_surface != "none"))
+          throw Error(filename + ": " +
+                      (patient ? std::string("a patient scene (Scene/Mesh "
+                                             "source = patient)") :
+                                 std::string("a skin surface (Skin/Skin "
+                                             "surface)")) +
+                      " runs on one MPI rank only for now, not on " +
+                      std::to_string(n_ranks) + ".");
+      }
 
     OutputParameters &output = state->output;
     output.parse_parameters(prm);
@@ -407,18 +450,19 @@ namespace softface
         throw Error(filename + ": " + e.what());
       }
 
-    create_output_directory(output.directory);
-    std::filesystem::copy_file(
-      filename,
-      output.directory + "/input.prm",
-      std::filesystem::copy_options::overwrite_existing);
-    {
-      std::ofstream expanded(output.directory + "/parameters.prm");
-      prm.print_parameters(expanded, ParameterHandler::PRM);
-    }
+    if (state->writes_outputs)
+      {
+        create_output_directory(output.directory);
+        std::filesystem::copy_file(
+          filename,
+          output.directory + "/input.prm",
+          std::filesystem::copy_options::overwrite_existing);
+        std::ofstream expanded(output.directory + "/parameters.prm");
+        prm.print_parameters(expanded, ParameterHandler::PRM);
+      }
     // A patient's figures (voxels, tissue volumes, mesh quality, stage
     // times) for the reader and the patients benchmark.
-    if (!scene.patient_figures.empty())
+    if (!scene.patient_figures.empty() && state->writes_outputs)
       {
         auto csv = open_output_file(output.directory + "/patient.csv");
         csv << "figure,value\n";
@@ -469,10 +513,20 @@ namespace softface
 
   int
   Simulator::run(const std::string &filename,
-                 std::ostream      &out,
-                 std::ostream      &err)
+                 std::ostream      &out_of_rank_0,
+                 std::ostream      &err_of_rank_0)
   {
+    // On several MPI ranks, rank 0 speaks for all: they take the same
+    // decisions on the same scene.
+    SilentBuffer discard;
+    std::ostream silent(&discard);
+    const bool   speaks = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    std::ostream      &out = speaks ? out_of_rank_0 : silent;
+    std::ostream      &err = speaks ? err_of_rank_0 : silent;
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
     prepare(filename, out);
+    const bool         writes     = state->writes_outputs;
     Scene             &scene      = *the_scene;
     const auto        &output     = state->output;
     auto              &models     = state->models;
@@ -646,7 +700,7 @@ namespace softface
                 for (const auto &warning : run.statistics.warnings)
                   err << "softface: warning: " << run.label() << ": " << warning
                       << std::endl;
-                if (evaluation)
+                if (evaluation && writes)
                   {
                     const auto [field_dofs, field] =
                       model->displacement_field();
@@ -676,25 +730,30 @@ namespace softface
     Report::compare_to(scene, reference, model_runs);
     out << '\n';
     Report::print(scene, model_runs, reference, true, out);
-    if (skin)
-      skin->write(out);
-    Report::write_summary_csv(scene,
-                              model_runs,
-                              reference,
-                              output.directory + "/summary.csv");
-    Report::write_statistics(scene,
-                             model_runs,
-                             output.directory + "/statistics");
-    if (output.write_vtu)
-      Output::write_vtu(scene, model_runs, output.directory + "/solution.vtu");
-    if (output.write_nodal_displacements)
-      for (const auto &run : model_runs)
-        if (!run.failed)
-          Output::write_nodal_displacements(
-            scene,
-            run.displacement,
-            output.directory + "/displacements_" +
-              Output::file_name_of(run.label()) + ".csv");
+    if (writes)
+      {
+        if (skin)
+          skin->write(out);
+        Report::write_summary_csv(scene,
+                                  model_runs,
+                                  reference,
+                                  output.directory + "/summary.csv");
+        Report::write_statistics(scene,
+                                 model_runs,
+                                 output.directory + "/statistics");
+        if (output.write_vtu)
+          Output::write_vtu(scene,
+                            model_runs,
+                            output.directory + "/solution.vtu");
+        if (output.write_nodal_displacements)
+          for (const auto &run : model_runs)
+            if (!run.failed)
+              Output::write_nodal_displacements(
+                scene,
+                run.displacement,
+                output.directory + "/displacements_" +
+                  Output::file_name_of(run.label()) + ".csv");
+      }
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
@@ -705,7 +764,10 @@ namespace softface
         << (skin ? ", skin.csv, skin_*.ply/.vtp" : "")
         << ", input.prm, parameters.prm)\n"
         << "Wall time " << std::setprecision(2) << Process::wall_time()
-        << " s (the whole process, " << Threads::n_threads()
+        << " s (the whole process, "
+        << (n_ranks > 1 ? std::to_string(n_ranks) + " MPI ranks x " :
+                          std::string())
+        << Threads::n_threads()
         << (Threads::n_threads() == 1 ? " thread" : " threads")
         << "), peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;
     if (n_failed > 0)

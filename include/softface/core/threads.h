@@ -20,8 +20,9 @@ namespace softface
   {
     /**
      * Use at most @p n threads (the scene's Models/Threads), no more than
-     * there are cores; 0 means every core. The environment variable
-     * DEAL_II_NUM_THREADS, if set, caps it.
+     * there are cores; 0 means every core, shared among the MPI ranks on
+     * this machine. The environment variable DEAL_II_NUM_THREADS, if set,
+     * caps it. Collective when MPI runs several ranks.
      */
     void
     set_limit(unsigned int n);

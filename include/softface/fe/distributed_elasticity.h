@@ -1,10 +1,16 @@
 #ifndef softface_fe_distributed_elasticity_h
 #define softface_fe_distributed_elasticity_h
 
+#include <deal.II/lac/affine_constraints.h>
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/distributed_layout.h>
 #include <softface/fe/linear_solver.h>
+
+#include <memory>
 
 namespace softface
 {
@@ -31,13 +37,47 @@ namespace softface
     };
 
     /**
-     * Solve with the join DoFs moved by @p prescribed (serial layout, as
-     * Planning::prescribed_displacement() gives it) to @p parameters'
-     * relative tolerance, of the same right-hand side norm as the serial
-     * model's. Collective; throws the same error on every rank
-     * when the scene has an effect this solve does not honour or CG does not
-     * converge.
+     * The system on a layout: assembled and preconditioned once (assemble(),
+     * build_preconditioner()), then solved for any planning (solve()), as
+     * the serial linear FEM model reuses its setup for every plan.
      */
+    class LinearSystem
+    {
+    public:
+      /**
+       * The stiffness on this rank's cells with the join DoFs' rows and
+       * columns eliminated (a Trilinos matrix). Collective; throws the same
+       * error on every rank when the scene has an effect this solve does not
+       * honour or @p parameters name a solver other than 'cg amg'.
+       */
+      void
+      assemble(const DistributedLayout        &layout,
+               const LinearSolver::Parameters &parameters);
+
+      /// ML with the six rigid-body modes, as the serial model builds it.
+      void
+      build_preconditioner();
+
+      /**
+       * Solve with the join DoFs moved by @p prescribed (serial layout, as
+       * Planning::prescribed_displacement() gives it) to the parameters'
+       * relative tolerance, of the same right-hand side norm as the serial
+       * model's. Collective; throws the same error on every rank when CG
+       * does not converge.
+       */
+      Result
+      solve(const Vector<double> &prescribed) const;
+
+    private:
+      const DistributedLayout                           *layout = nullptr;
+      LinearSolver::Parameters                           parameters;
+      AffineConstraints<double>                          join_rows;
+      TrilinosWrappers::SparseMatrix                     stiffness;
+      TrilinosWrappers::MPI::Vector                      diagonal;
+      std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
+    };
+
+    /// assemble(), build_preconditioner() and solve() at once.
     Result
     solve_linear(const DistributedLayout        &layout,
                  const Vector<double>           &prescribed,

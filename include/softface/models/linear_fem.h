@@ -8,11 +8,19 @@
 #include <softface/fe/vertex_constraints.h>
 #include <softface/models/interface.h>
 
+#include <mpi.h>
+
 #include <memory>
 #include <vector>
 
 namespace softface
 {
+  class DistributedLayout;
+  namespace DistributedElasticity
+  {
+    class LinearSystem;
+  }
+
   namespace Models
   {
     /**
@@ -25,10 +33,18 @@ namespace softface
      * factorisation (fe/linear_solver.h). solve() only forms the right-hand
      * side -K_fj u_j for the planning and solves, so a re-plan on the same
      * scene reuses all of it.
+     *
+     * On several MPI ranks (issue 20) the scene's cells are shared among the
+     * ranks (DistributedLayout) and the system is assembled and solved there
+     * (DistributedElasticity::LinearSystem, 'cg amg' only); every rank gets
+     * the whole answer.
      */
     class LinearFEM : public Interface
     {
     public:
+      LinearFEM();
+      ~LinearFEM() override;
+
       static void
       declare_parameters(ParameterHandler &prm);
       void
@@ -59,6 +75,14 @@ namespace softface
       unsigned int
       n_factorizations() const;
 
+      /**
+       * The ranks that share the work (default MPI_COMM_WORLD): on more
+       * than one, setup() distributes the system. MPI_COMM_SELF keeps a
+       * serial model in an MPI run.
+       */
+      void
+      set_communicator(const MPI_Comm communicator);
+
     protected:
       void
       do_setup(const Scene &scene) override;
@@ -83,6 +107,13 @@ namespace softface
       std::unique_ptr<VertexConstraintSet> vertex_constraints;
       SparseMatrix<double>                 condensed_stiffness;
       std::vector<bool>                    condensed_for;
+
+      MPI_Comm                                             communicator;
+      std::unique_ptr<DistributedLayout>                   layout;
+      std::unique_ptr<DistributedElasticity::LinearSystem> distributed;
+
+      void
+      setup_distributed();
     };
   } // namespace Models
 } // namespace softface

@@ -1,0 +1,124 @@
+// A scene file run by the simulator on several MPI ranks (issue 20), by
+// ctest on 2 and 3 ranks (mpi_run_scene.mpirun=N.output): every rank ends
+// with exit code 0 and the serial models' answers (linear FEM distributed:
+// equal to the serial model to 1e-8 relative; the mass tensor model, run
+// whole on every rank: equal to a serial run); rank 0 alone writes the
+// outputs; a patient scene is refused on several ranks with one message.
+
+#include <deal.II/base/mpi.h>
+
+#include <softface/core/error.h>
+#include <softface/core/planning_list.h>
+#include <softface/models/interface.h>
+#include <softface/models/linear_fem.h>
+#include <softface/simulator/simulator.h>
+
+#include "scenes.h"
+#include "tests.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace softface_tests;
+
+SOFTFACE_TEST(mpi_run_scene)
+{
+  const MPI_Comm     comm    = MPI_COMM_WORLD;
+  const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  const bool         rank_0  = Utilities::MPI::this_mpi_process(comm) == 0;
+  deallog << "ranks: " << n_ranks << std::endl;
+
+  // Its own output folder per number of ranks: ctest may run the 2- and
+  // 3-rank tests at once.
+  const std::string name   = "mpi_run_scene_" + std::to_string(n_ranks);
+  const std::string folder = name + "_output";
+  if (rank_0)
+    {
+      std::filesystem::remove_all(folder);
+      std::ifstream in(source_file("mpi_run_scene.prm"));
+      std::ofstream out(name + ".prm");
+      out << in.rdbuf()
+          << "subsection Output\n  set Output directory = " << folder
+          << "\nend\n";
+    }
+  MPI_Barrier(comm);
+
+  std::ostringstream log, errors;
+  Simulator          simulator;
+  const int          rc = simulator.run(name + ".prm", log, errors);
+  check_equal("largest exit code over the ranks",
+              Utilities::MPI::max(rc, comm),
+              0);
+  check_equal("ranks that printed the table",
+              Utilities::MPI::sum(
+                int(log.str().find("linear fem") != std::string::npos), comm),
+              1);
+
+  const Scene &scene = simulator.scene();
+  const auto  &runs  = simulator.runs();
+  check_equal("model runs", runs.size(), 2);
+
+  const Vector<double> prescribed =
+    simulator.plannings().plans[0].planning.prescribed_displacement(scene);
+
+  // Linear FEM: the distributed answer against the serial model's.
+  check_equal("linear fem ran on every rank", runs[0].failed, false);
+  Models::LinearFEM serial;
+  serial.set_communicator(MPI_COMM_SELF);
+  serial.set_solver("cg amg", 1e-12);
+  serial.setup(scene);
+  Vector<double> expected;
+  serial.solve(prescribed, expected);
+  check_below("linear fem: relative difference to the serial model",
+              relative_difference(runs[0].displacement, expected),
+              1e-8);
+  check_above("linear fem: largest |u_i| (mm)",
+              runs[0].displacement.linfty_norm(),
+              5.9);
+
+  // The mass tensor model, whole on every rank: the serial answer.
+  auto mass_tensor = Models::create("mass tensor", simulator.parameters());
+  mass_tensor->setup(scene);
+  mass_tensor->solve(prescribed, expected);
+  Vector<double> difference = runs[1].displacement;
+  difference -= expected;
+  check_below("mass tensor: largest difference to a serial run (mm)",
+              difference.linfty_norm(),
+              1e-9);
+
+  // Rank 0 wrote the outputs: the summary has a row per model.
+  if (rank_0)
+    {
+      std::ifstream summary(folder + "/summary.csv");
+      std::string   line;
+      unsigned int  rows = 0;
+      while (std::getline(summary, line))
+        ++rows;
+      check_equal("summary.csv rows (header + two models)", rows, 3);
+      check_equal("displacements_linear_fem.csv written",
+                  std::filesystem::exists(folder +
+                                          "/displacements_linear_fem.csv"),
+                  true);
+    }
+
+  // A patient scene writes its stages as it builds: refused on several
+  // ranks, on every rank alike.
+  int refused = 0;
+  try
+    {
+      Simulator          patient;
+      std::ostringstream quiet;
+      patient.run(source_file("run_patient.prm"), quiet, quiet);
+    }
+  catch (const Error &e)
+    {
+      refused                   = 1;
+      const std::string message = e.what();
+      deallog << "patient scene: "
+              << message.substr(message.find("run_patient.prm")) << std::endl;
+    }
+  check_equal("ranks that refused the patient scene",
+              Utilities::MPI::sum(refused, comm),
+              int(n_ranks));
+}
