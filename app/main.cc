@@ -11,8 +11,10 @@
 #include <softface/serve/serve.h>
 #include <softface/simulator/simulator.h>
 
+#include <chrono>
 #include <iostream>
 #include <string>
+#include <thread>
 
 int
 main(int argc, char **argv)
@@ -81,9 +83,21 @@ main(int argc, char **argv)
     }
   catch (const std::exception &e)
     {
+      // On several MPI ranks an error met by one rank alone would leave the
+      // others waiting in a collective: the job is aborted. Rank 0 speaks
+      // first; another rank speaks only if rank 0 did not end the job by
+      // then (the error was its own), so that the message comes once.
+      const unsigned int rank =
+        dealii::Utilities::MPI::this_mpi_process(MPI_COMM_WORLD);
+      const bool several =
+        dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1;
+      if (several && rank != 0)
+        std::this_thread::sleep_for(std::chrono::seconds(2));
       std::cout.flush();
       std::cerr << "softface: error: " << softface::error_message(e)
                 << std::endl;
+      if (several)
+        MPI_Abort(MPI_COMM_WORLD, 1);
       return 1;
     }
 }
