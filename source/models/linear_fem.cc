@@ -48,6 +48,14 @@ namespace softface
                         Patterns::Integer(1),
                         "An iterative solve that needs more iterations stops "
                         "with an error stating the residual reached.");
+      prm.declare_entry("Partitioner",
+                        "cell order",
+                        Patterns::Selection("cell order|metis"),
+                        "On several MPI ranks (mpirun), how the cells are "
+                        "shared among them: 'cell order' (contiguous pieces "
+                        "of the cells' order, a space-filling curve for a "
+                        "read mesh) or 'metis' (METIS on the cells' face "
+                        "graph: fewer faces between the ranks).");
       LinearSolver::Parameters().declare_tuning_parameters(prm, false);
     }
 
@@ -59,6 +67,7 @@ namespace softface
         prm.get_double("Relative tolerance");
       solver_parameters.max_iterations = prm.get_integer("Maximum iterations");
       solver_parameters.parse_tuning_parameters(prm, false);
+      partitioner = prm.get("Partitioner");
     }
 
     unsigned int
@@ -151,7 +160,10 @@ namespace softface
         throw Error("linear fem: nodal forces are not distributed yet.");
       {
         const auto timed = phase("partition");
-        layout = std::make_unique<DistributedLayout>(*scene, communicator);
+        layout           = std::make_unique<DistributedLayout>(
+          *scene,
+          communicator,
+          DistributedLayout::parse_partitioner(partitioner));
       }
       distributed = std::make_unique<DistributedElasticity::LinearSystem>();
       {

@@ -53,6 +53,29 @@ namespace softface
         return traits_type::not_eof(c);
       }
     };
+
+    // On several MPI ranks a run's times are the slowest rank's and its
+    // memory the largest rank's. Collective.
+    void
+    take_slowest_rank(Report::ModelRun &run)
+    {
+      const MPI_Comm      comm  = MPI_COMM_WORLD;
+      auto               &s     = run.statistics;
+      std::vector<double> local = {s.setup_time,
+                                   s.solve_time,
+                                   run.basis_time,
+                                   run.peak_memory_mb};
+      for (const auto &[name, seconds] : s.phases)
+        local.push_back(seconds);
+      std::vector<double> largest(local.size());
+      Utilities::MPI::max(local, comm, largest);
+      s.setup_time       = largest[0];
+      s.solve_time       = largest[1];
+      run.basis_time     = largest[2];
+      run.peak_memory_mb = largest[3];
+      for (unsigned int p = 0; p < s.phases.size(); ++p)
+        s.phases[p].second = largest[4 + p];
+    }
   } // namespace
 
   namespace
@@ -721,6 +744,8 @@ namespace softface
             Utilities::System::MemoryStats memory;
             Utilities::System::get_memory_stats(memory);
             run.peak_memory_mb = memory.VmHWM / 1024.;
+            if (n_ranks > 1)
+              take_slowest_rank(run);
             model_runs.push_back(std::move(run));
           }
         // The model's memory is freed once it has run; the peak stays.
@@ -757,6 +782,8 @@ namespace softface
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
+    const double peak_mb =
+      Utilities::MPI::max(memory.VmHWM / 1024., MPI_COMM_WORLD);
     out << "\nOutputs in " << output.directory << "/ (summary.csv, statistics"
         << (output.write_vtu ? ", solution.vtu" : "")
         << (output.write_nodal_displacements ? ", displacements_*.csv" : "")
@@ -769,7 +796,8 @@ namespace softface
                           std::string())
         << Threads::n_threads()
         << (Threads::n_threads() == 1 ? " thread" : " threads")
-        << "), peak memory " << memory.VmHWM / 1024 << " MB" << std::endl;
+        << "), peak memory " << std::fixed << std::setprecision(0) << peak_mb
+        << (n_ranks > 1 ? " MB (the largest rank)" : " MB") << std::endl;
     if (n_failed > 0)
       {
         std::string names;

@@ -11,6 +11,7 @@
 #include <mpi.h>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace softface
@@ -108,8 +109,9 @@ namespace softface
       SparseMatrix<double>                 condensed_stiffness;
       std::vector<bool>                    condensed_for;
 
-      MPI_Comm                                             communicator;
-      std::unique_ptr<DistributedLayout>                   layout;
+      MPI_Comm                           communicator;
+      std::string                        partitioner = "cell order";
+      std::unique_ptr<DistributedLayout> layout;
       std::unique_ptr<DistributedElasticity::LinearSystem> distributed;
 
       void
