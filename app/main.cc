@@ -50,6 +50,12 @@ main(int argc, char **argv)
       if (argc == 3)
         {
           const std::string stage = argv[1];
+          // The patient stages write their work folder, serve binds a
+          // port: one process does them.
+          if (dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+            throw softface::Error("softface " + stage +
+                                  " runs on one MPI rank only; start it "
+                                  "without mpirun.");
           if (stage == "serve")
             return softface::Serve::serve(argv[2], std::cout);
           if (stage != "phantom" && stage != "segment" && stage != "mesh" &&
@@ -92,7 +98,7 @@ main(int argc, char **argv)
       const bool several =
         dealii::Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1;
       if (several && rank != 0)
-        std::this_thread::sleep_for(std::chrono::seconds(2));
+        std::this_thread::sleep_for(std::chrono::seconds(5));
       std::cout.flush();
       std::cerr << "softface: error: " << softface::error_message(e)
                 << std::endl;

@@ -2,8 +2,9 @@
 // ctest on 2 and 3 ranks (mpi_run_scene.mpirun=N.output): every rank ends
 // with exit code 0 and the serial models' answers (linear FEM distributed:
 // equal to the serial model to 1e-8 relative; the mass tensor model, run
-// whole on every rank: equal to a serial run); rank 0 alone writes the
-// outputs; a patient scene is refused on several ranks with one message.
+// whole on every rank: equal to a serial run); linear FEM says it ran on the
+// ranks; rank 0 alone writes (each rank names its own output folder, only
+// rank 0's exists); a patient scene is refused on every rank.
 
 #include <deal.II/base/mpi.h>
 
@@ -29,19 +30,21 @@ SOFTFACE_TEST(mpi_run_scene)
   const bool         rank_0  = Utilities::MPI::this_mpi_process(comm) == 0;
   deallog << "ranks: " << n_ranks << std::endl;
 
-  // Its own output folder per number of ranks: ctest may run the 2- and
-  // 3-rank tests at once.
-  const std::string name   = "mpi_run_scene_" + std::to_string(n_ranks);
-  const std::string folder = name + "_output";
-  if (rank_0)
-    {
-      std::filesystem::remove_all(folder);
-      std::ifstream in(source_file("mpi_run_scene.prm"));
-      std::ofstream out(name + ".prm");
-      out << in.rdbuf()
-          << "subsection Output\n  set Output directory = " << folder
-          << "\nend\n";
-    }
+  // Each rank names its own output folder (the same scene otherwise), so
+  // that what each writes can be told apart; the number of ranks is in the
+  // names too: ctest may run the 2- and 3-rank tests at once.
+  const unsigned int rank   = Utilities::MPI::this_mpi_process(comm);
+  const std::string  stem   = "mpi_run_scene_" + std::to_string(n_ranks) + "_";
+  const std::string  name   = stem + std::to_string(rank);
+  const std::string  folder = name + "_output";
+  std::filesystem::remove_all(folder);
+  {
+    std::ifstream in(source_file("mpi_run_scene.prm"));
+    std::ofstream out(name + ".prm");
+    out << in.rdbuf()
+        << "subsection Output\n  set Output directory = " << folder
+        << "\nend\n";
+  }
   MPI_Barrier(comm);
 
   std::ostringstream log, errors;
@@ -62,8 +65,12 @@ SOFTFACE_TEST(mpi_run_scene)
   const Vector<double> prescribed =
     simulator.plannings().plans[0].planning.prescribed_displacement(scene);
 
-  // Linear FEM: the distributed answer against the serial model's.
+  // Linear FEM: distributed, and its answer the serial model's.
   check_equal("linear fem ran on every rank", runs[0].failed, false);
+  bool distributed = false;
+  for (const auto &detail : runs[0].statistics.details)
+    distributed |= detail.name == "MPI ranks" && detail.value == n_ranks;
+  check_equal("linear fem says it ran on the ranks", distributed, true);
   Models::LinearFEM serial;
   serial.set_communicator(MPI_COMM_SELF);
   serial.set_solver("cg amg", 1e-12);
@@ -87,7 +94,9 @@ SOFTFACE_TEST(mpi_run_scene)
               difference.linfty_norm(),
               1e-9);
 
-  // Rank 0 wrote the outputs: the summary has a row per model.
+  // Rank 0 alone wrote its outputs: the summary has a row per model, and
+  // the other ranks' folders do not exist.
+  MPI_Barrier(comm);
   if (rank_0)
     {
       std::ifstream summary(folder + "/summary.csv");
@@ -100,6 +109,10 @@ SOFTFACE_TEST(mpi_run_scene)
                   std::filesystem::exists(folder +
                                           "/displacements_linear_fem.csv"),
                   true);
+      unsigned int others = 0;
+      for (unsigned int r = 1; r < n_ranks; ++r)
+        others += std::filesystem::exists(stem + std::to_string(r) + "_output");
+      check_equal("output folders of the other ranks", others, 0);
     }
 
   // A patient scene writes its stages as it builds: refused on several

@@ -3,8 +3,9 @@
 // margin (3 mm) and one with a margin of its own (8 mm, as a setback's
 // sagittal splits get). Bone within a cut's margin, and only there, is
 // detached: per cut, the detached voxels lie within its margin and fill the
-// bar's cross-section over the margin's width on each side (less the kerf).
-// A margin out of range is refused with the parameter's name.
+// bar's cross-section over the margin's width on each side (kerf included).
+// Parsed, a cut without a margin of its own takes the osteotomy's; a margin
+// out of range is refused with the parameter's name.
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -86,25 +87,44 @@ SOFTFACE_TEST(osteotomy_margins)
                                   std::llround(rows));
     }
 
-  // The parameter: a margin out of range names itself.
-  ParameterHandler prm;
-  prm.enter_subsection("Scene");
-  prm.enter_subsection("Patient");
-  OsteotomyParameters::declare_parameters(prm, {"bsso left"});
-  prm.leave_subsection();
-  prm.leave_subsection();
-  prm.parse_input_from_string("subsection Scene\n subsection Patient\n"
-                              "  subsection Osteotomy\n"
-                              "   set Cuts = bsso left\n"
-                              "   subsection Cut bsso left\n"
-                              "    set Detached margin = 80\n"
-                              "   end\n  end\n end\nend\n");
-  prm.enter_subsection("Scene");
-  prm.enter_subsection("Patient");
+  // The parameters: a cut without a margin of its own takes the
+  // osteotomy's, one with its own keeps it; a margin out of range names
+  // itself.
+  const auto parse = [](const std::string &right, const std::string &left) {
+    ParameterHandler prm;
+    prm.enter_subsection("Scene");
+    prm.enter_subsection("Patient");
+    OsteotomyParameters::declare_parameters(prm, {"bsso right", "bsso left"});
+    prm.leave_subsection();
+    prm.leave_subsection();
+    prm.parse_input_from_string(
+      "subsection Scene\n subsection Patient\n  subsection Osteotomy\n"
+      "   set Cuts = bsso right, bsso left\n"
+      "   set Detached margin = 5\n"
+      "   subsection Cut bsso right\n    set Detached margin = " +
+      right +
+      "\n   end\n   subsection Cut bsso left\n"
+      "    set Detached margin = " +
+      left + "\n   end\n  end\n end\nend\n");
+    prm.enter_subsection("Scene");
+    prm.enter_subsection("Patient");
+    OsteotomyParameters parsed;
+    parsed.parse_parameters(prm);
+    return parsed;
+  };
+  const OsteotomyParameters parsed = parse("", "8");
+  deallog << "osteotomy margin 5, 'bsso right' none of its own, 'bsso left' "
+             "8:"
+          << std::endl;
+  softface_tests::check_equal("  'bsso right' (mm)",
+                              parsed.cuts[0].detached_margin,
+                              5);
+  softface_tests::check_equal("  'bsso left' (mm)",
+                              parsed.cuts[1].detached_margin,
+                              8);
   try
     {
-      OsteotomyParameters parsed;
-      parsed.parse_parameters(prm);
+      parse("80", "");
       throw std::runtime_error("a margin of 80 mm was accepted");
     }
   catch (const Error &e)

@@ -7,6 +7,7 @@
 #include <softface/core/threads.h>
 
 #include <mpi.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -47,6 +48,20 @@ namespace softface
         MPI_Comm_free(&machine);
         return size;
       }
+
+
+      // The cores this process may run on (a launcher or batch system that
+      // binds it gives it fewer than the machine has).
+      unsigned int
+      cores_of_this_process()
+      {
+        const unsigned int cores = dealii::MultithreadInfo::n_cores();
+        cpu_set_t          set;
+        CPU_ZERO(&set);
+        if (sched_getaffinity(0, sizeof(set), &set) != 0)
+          return cores;
+        return std::clamp<unsigned int>(CPU_COUNT(&set), 1, cores);
+      }
     } // namespace
 
     void
@@ -54,13 +69,15 @@ namespace softface
     {
       // More threads than cores only split the work finer (a scene asking
       // for 100000 made as many assembly parts); ranks on one machine share
-      // its cores.
-      const unsigned int cores = dealii::MultithreadInfo::n_cores();
+      // its cores, and none uses more than it is bound to.
+      const unsigned int cores = cores_of_this_process();
       const unsigned int ranks = ranks_on_this_machine();
       if (n == 0)
         dealii::MultithreadInfo::set_thread_limit(
-          ranks == 1 ? dealii::numbers::invalid_unsigned_int :
-                       std::max(1u, cores / ranks));
+          ranks == 1 && cores == dealii::MultithreadInfo::n_cores() ?
+            dealii::numbers::invalid_unsigned_int :
+            std::max(
+              1u, std::min(cores, dealii::MultithreadInfo::n_cores() / ranks)));
       else
         dealii::MultithreadInfo::set_thread_limit(std::min(n, cores));
     }

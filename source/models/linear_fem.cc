@@ -182,6 +182,8 @@ namespace softface
       Assert(scene != nullptr, ExcMessage("LinearFEM::setup() first."));
       if (distributed)
         {
+          if (nodal_forces.size() > 0)
+            throw Error("linear fem: nodal forces are not distributed yet.");
           const auto timed  = phase("solve");
           auto       result = distributed->solve(prescribed);
           displacement.swap(result.displacement);

@@ -3,6 +3,7 @@
 // stop criterion and active set, and the precision against the converged
 // answer of the same equations.
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
 #include <softface/core/displacement.h>
@@ -571,7 +572,9 @@ namespace softface
       else if (report_precision || !precision_history_file.empty())
         solve_converged(prescribed, converged);
       std::ofstream history;
-      if (!precision_history_file.empty())
+      // On several MPI ranks each runs this model whole: rank 0 writes.
+      if (!precision_history_file.empty() &&
+          Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
         {
           history.open(precision_history_file);
           if (!history)

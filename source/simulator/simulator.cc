@@ -30,6 +30,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -65,16 +66,23 @@ namespace softface
                                    s.solve_time,
                                    run.basis_time,
                                    run.peak_memory_mb};
-      for (const auto &[name, seconds] : s.phases)
-        local.push_back(seconds);
+      // Every rank ran the same phases (the simulator checks that they
+      // agree on failures); a count that differs anyway keeps this rank's.
+      const unsigned int n_phases    = s.phases.size();
+      const bool         same_phases = Utilities::MPI::min(n_phases, comm) ==
+                               Utilities::MPI::max(n_phases, comm);
+      if (same_phases)
+        for (const auto &[name, seconds] : s.phases)
+          local.push_back(seconds);
       std::vector<double> largest(local.size());
       Utilities::MPI::max(local, comm, largest);
       s.setup_time       = largest[0];
       s.solve_time       = largest[1];
       run.basis_time     = largest[2];
       run.peak_memory_mb = largest[3];
-      for (unsigned int p = 0; p < s.phases.size(); ++p)
-        s.phases[p].second = largest[4 + p];
+      if (same_phases)
+        for (unsigned int p = 0; p < n_phases; ++p)
+          s.phases[p].second = largest[4 + p];
     }
   } // namespace
 
@@ -549,7 +557,18 @@ namespace softface
     const unsigned int n_ranks =
       Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
     prepare(filename, out);
-    const bool         writes     = state->writes_outputs;
+    const bool writes = state->writes_outputs;
+    // Ranks that disagree on whether a model failed have left the same
+    // path: the job cannot go on (main() ends it).
+    const auto same_on_every_rank = [&](const bool         failed,
+                                        const std::string &what) {
+      if (n_ranks > 1 && Utilities::MPI::min(int(failed), MPI_COMM_WORLD) !=
+                           Utilities::MPI::max(int(failed), MPI_COMM_WORLD))
+        throw Error(what +
+                    (failed ? " failed on this rank and not on others" :
+                              " failed on other ranks and not on this one") +
+                    "; the ranks cannot go on together.");
+    };
     Scene             &scene      = *the_scene;
     const auto        &output     = state->output;
     auto              &models     = state->models;
@@ -573,6 +592,12 @@ namespace softface
         const auto record_failure = [&](Report::ModelRun     &run,
                                         const std::string    &where,
                                         const std::exception &e) {
+          // On several ranks only softface's own errors, which every rank
+          // meets alike (they hold the same scene), are a model's failure;
+          // anything else (memory, a library's exception) may be one rank's,
+          // with the others waiting in a collective: main() ends the job.
+          if (n_ranks > 1 && dynamic_cast<const Error *>(&e) == nullptr)
+            throw;
           run.failed = true;
           run.error  = error_message(e);
           run.displacement.reinit(0);
@@ -603,6 +628,7 @@ namespace softface
         bool                  use_basis  = false;
         double                basis_time = 0.;
         Models::Statistics    after_setup;
+        std::exception_ptr    setup_error;
         try
           {
             model->set_progress_stream(&out);
@@ -631,14 +657,28 @@ namespace softface
           }
         catch (const std::exception &e)
           {
+            if (n_ranks > 1 && dynamic_cast<const Error *>(&e) == nullptr)
+              throw; // see record_failure()
+            setup_error = std::current_exception();
+          }
+        same_on_every_rank(setup_error != nullptr, name + "'s setup");
+        if (setup_error)
+          {
             // Setup failed: so does every plan.
-            for (unsigned int p = 0; p < n_plans; ++p)
+            try
               {
-                Report::ModelRun run;
-                run.model    = name;
-                run.planning = plan_of_run(p);
-                record_failure(run, p == 0 ? tag : std::string(), e);
-                model_runs.push_back(std::move(run));
+                std::rethrow_exception(setup_error);
+              }
+            catch (const std::exception &e)
+              {
+                for (unsigned int p = 0; p < n_plans; ++p)
+                  {
+                    Report::ModelRun run;
+                    run.model    = name;
+                    run.planning = plan_of_run(p);
+                    record_failure(run, p == 0 ? tag : std::string(), e);
+                    model_runs.push_back(std::move(run));
+                  }
               }
             model.reset();
             continue;
@@ -745,7 +785,10 @@ namespace softface
             Utilities::System::get_memory_stats(memory);
             run.peak_memory_mb = memory.VmHWM / 1024.;
             if (n_ranks > 1)
-              take_slowest_rank(run);
+              {
+                same_on_every_rank(run.failed, run.label() + "'s solve");
+                take_slowest_rank(run);
+              }
             model_runs.push_back(std::move(run));
           }
         // The model's memory is freed once it has run; the peak stays.
