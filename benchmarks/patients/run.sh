@@ -5,7 +5,7 @@
 # models) and writes doc/results/patients.md (+ patients.csv, and one PNG per
 # patient of its skin and skull, front and profile).
 #
-#   benchmarks/patients/run.sh            all ten (about 15 min, plus about
+#   benchmarks/patients/run.sh            all ten (about 9 min, plus about
 #                                         an hour for their truths the first time)
 #   benchmarks/patients/run.sh P4 P5      some of them
 #   benchmarks/patients/run.sh --no-truth P8

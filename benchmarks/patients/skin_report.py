@@ -99,7 +99,7 @@ def distance_picture(patient_dir, out_png, title):
     return True
 
 
-def conclusions(data, row_of):
+def conclusions(data, row_of, results):
     """The seed's conclusions (3.6) held against these numbers: the 90 %
     percentile of each model against linear FEM's, patient by patient."""
     def p90(p, m):
@@ -136,6 +136,24 @@ def conclusions(data, row_of):
         md.append(f"- *The nonlinear FEM is no better than the linear "
                   f"FEM*: {span(nfem)}. {verdict}")
     md.append("")
+    # How finely the truth itself resolves (truth_refinement.sh), if run.
+    refinement = os.path.join(results, "truth_refinement.csv")
+    if os.path.exists(refinement):
+        with open(refinement, newline="") as f:
+            rows = list(csv.DictReader(f))
+        if rows:
+            last = rows[-1]
+            change = float(last["p90 mm"])
+            md.append(
+                f"**The truth's own resolution.** Refining {last['patient']}'s "
+                f"truth from {last['coarse tets']} to {last['fine tets']} "
+                f"tetrahedra moved its skin by {change:.3g} mm (p90; "
+                "[truth_refinement.md](truth_refinement.md)). Differences "
+                "between models smaller than that lie within the truth's own "
+                "discretisation, and by the accuracy benchmark's rule (ten "
+                f"times the last change) only those from about "
+                f"{10 * change:.2g} mm are resolved. The verdicts above are "
+                "read with that in mind.\n")
     return md
 
 
@@ -182,8 +200,11 @@ def sections(work, results, patients):
           "their own moduli (15, 3, 6 kPa), driven by the planned bone "
           "motions plus a known rigid error per moved segment (0.7 mm and "
           "0.6 degrees in random directions; seed 3.2: the residual mismatch "
-          "between plan and surgery), on a mesh of the same patient made "
-          "separately with the same target size (`prm/patients/P<n>_truth.prm`). "
+          "between plan and surgery), on the patient's own tetrahedral mesh "
+          "(its truth scene `prm/patients/P<n>_truth.prm` meshes it again "
+          "with the same parameters and seed; the two mesh.vtu files are "
+          "identical) with quadratic elements; whether that mesh is fine "
+          "enough: `truth_refinement.md`. "
           "A distance to it is what the predicting models leave out (the "
           "planning error, tissue layers, large strain, discretisation), "
           "not the distance to a real patient; the seed's numbers come from "
@@ -191,8 +212,8 @@ def sections(work, results, patients):
 
     if without:
         md.append("**Patients without distances:** " + ", ".join(without) +
-                  ". Their post-operative truth was not made (`doc/skin.md`, "
-                  "'Patients without a truth'); their predictions are in "
+                  ". They ran without their post-operative truth "
+                  "(`run.sh --no-truth`); their predictions are in "
                   "Table 2.\n")
 
     # Table 3 analogue.
@@ -212,7 +233,7 @@ def sections(work, results, patients):
                   f"{s[1]:.2f} | {fmt(mean[1])} | {s[2]:.2f} | "
                   f"{fmt(mean[2])} | {len(vals)} |")
     md.append("")
-    md += conclusions(data, row_of)
+    md += conclusions(data, row_of, results)
 
     # Fig. 9 analogue: per patient and model.
     md.append("### Fig. 9: each patient and model\n")

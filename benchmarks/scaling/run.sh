@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Strong scaling, one MPI rank against two (issue 20): linear FEM on the generated cube of about
+# 500k and 2M tetrahedra, serial and mpiexec -n 2 interleaved, 3 repetitions, one thread per
+# rank; checks that the answers agree and writes doc/results/scaling.{md,csv,png}.
+#
+#   benchmarks/scaling/run.sh [--quick]   (--quick: 30k tetrahedra once; results in the work dir)
+#
+# Env: SOFTFACE (default build/softface), SCALING_WORK (default /tmp/softface-scaling). Needs
+# mpiexec (Open MPI, as deal.II's package brings it) and Debian's /usr/bin/python3 with
+# python3-numpy and python3-matplotlib. Run it on an otherwise idle machine.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+softface=${SOFTFACE:-$root/build/softface}
+work=${SCALING_WORK:-/tmp/softface-scaling}
+results=$root/doc/results
+[ -x "$softface" ] || { echo "no softface binary at $softface (build it or set SOFTFACE)"; exit 1; }
+mpiexec=$(command -v mpiexec || command -v mpirun || true)
+[ -n "$mpiexec" ] || { echo "scaling: needs mpiexec (apt-get install -y openmpi-bin)"; exit 1; }
+source "$root/scripts/bootstrap.sh"
+softface_ensure_packages python3-numpy python3-matplotlib
+quick=()
+if [ "${1:-}" = "--quick" ]; then quick=(--quick); results=$work/quick-results; fi
+mkdir -p "$work" "$results"
+/usr/bin/python3 "$here/run.py" "$(realpath "$softface")" "$mpiexec" "$work" "$results" \
+  "benchmarks/scaling/run.sh $*" "${quick[@]}"
