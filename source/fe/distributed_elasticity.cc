@@ -109,8 +109,8 @@ namespace softface
       const auto                           A = tangents(scene);
       FullMatrix<double>                   cell_matrix(12, 12);
       std::vector<types::global_dof_index> dofs(12);
-      // The stiffness's diagonal, for the serial model's right-hand side
-      // norm (solve()).
+      // The stiffness's diagonal on the join rows, for the serial model's
+      // right-hand side norm (solve()).
       diagonal.reinit(owned, comm);
       for (const auto &cell : layout->dof_handler.active_cell_iterators())
         if (cell->is_locally_owned())
@@ -118,7 +118,8 @@ namespace softface
             cell_stiffness(*layout, A, cell, cell_matrix, dofs);
             join_rows.distribute_local_to_global(cell_matrix, dofs, stiffness);
             for (unsigned int i = 0; i < 12; ++i)
-              diagonal[dofs[i]] += cell_matrix(i, i);
+              if (join_rows.is_constrained(dofs[i]))
+                diagonal[dofs[i]] += cell_matrix(i, i);
           }
       stiffness.compress(VectorOperation::add);
       diagonal.compress(VectorOperation::add);
