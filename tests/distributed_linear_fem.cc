@@ -6,6 +6,8 @@
 //   partitioners;
 // - the shared gmsh cube (tests/data/cube30k) lifted 6 mm;
 // - a two-tissue cube under gravity (heterogeneous tissue, body force);
+// - a cube held on one face only, where on 3 ranks a rank owns no join
+//   point;
 // and a scene with vertex constraints is refused on every rank with one
 // message. CG's iteration count is printed beside the serial one.
 
@@ -69,6 +71,37 @@ SOFTFACE_TEST(distributed_linear_fem)
   const Vector<double> turned = move_bone(cube, Point<3>(3, 0, 1), 10.);
   compare("cube, turned, cell order", cube, turned, Partitioner::cell_order);
   compare("cube, turned, metis", cube, turned, Partitioner::metis);
+
+  // Held on one face only (the others free) and the bone moved: with the
+  // cube's cells in slabs, some ranks own no join point at all.
+  Scene one_face;
+  {
+    Mesh::CubeParameters parameters;
+    parameters.target_n_tetrahedra = 8000;
+    Mesh::generate_cube(parameters, one_face.triangulation);
+    for (const auto &cell : one_face.triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->center()[2] > 1e-6)
+          face->set_boundary_id(Mesh::cube_outer_face + 1);
+    one_face.mesh_description = "cube held at z = 0";
+    one_face.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                                 {"bone", {Mesh::cube_inner_id}, {}, {}}};
+    one_face.setup();
+  }
+  {
+    const DistributedLayout layout(one_face, MPI_COMM_WORLD);
+    unsigned int            owned_joins = 0;
+    for (const auto dof : layout.locally_owned_dofs)
+      owned_joins += layout.is_join_dof(dof);
+    const unsigned int without =
+      Utilities::MPI::sum(static_cast<unsigned int>(owned_joins == 0),
+                          MPI_COMM_WORLD);
+    check_above("cube held at z = 0: ranks that own no join point", without, 1);
+  }
+  compare("cube held at z = 0, bone moved",
+          one_face,
+          move_bone(one_face, Point<3>(2, 0, 3), 5.),
+          Partitioner::cell_order);
 
   ParameterHandler     prm;
   Scene                gmsh;
