@@ -116,10 +116,20 @@ namespace softface
         if (cell->is_locally_owned())
           {
             cell_stiffness(*layout, A, cell, cell_matrix, dofs);
-            join_rows.distribute_local_to_global(cell_matrix, dofs, stiffness);
+            bool touches_join = false;
             for (unsigned int i = 0; i < 12; ++i)
               if (join_rows.is_constrained(dofs[i]))
-                diagonal[dofs[i]] += cell_matrix(i, i);
+                {
+                  touches_join = true;
+                  diagonal[dofs[i]] += cell_matrix(i, i);
+                }
+            // Most cells touch no join point: straight into the matrix.
+            if (touches_join)
+              join_rows.distribute_local_to_global(cell_matrix,
+                                                   dofs,
+                                                   stiffness);
+            else
+              stiffness.add(dofs, cell_matrix);
           }
       stiffness.compress(VectorOperation::add);
       diagonal.compress(VectorOperation::add);
