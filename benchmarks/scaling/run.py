@@ -138,8 +138,14 @@ for ax, t in zip(axes[0], table):
 fig.tight_layout()
 fig.savefig(os.path.join(results, "scaling.png"), dpi=110)
 
+try:
+    commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse",
+                             "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+except OSError:
+    commit = ""
 md = ["# Strong scaling: one MPI rank against two (linear FEM)", "",
-      f"Made by `{command}` on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), "
+      f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
+      f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), "
       f"linear FEM `cg amg` to 1e-10, one thread per rank (`Models/Threads = 1`), serial and "
       f"`mpiexec -n 2` interleaved, {REPS} repetition(s), medians; times from softface's own phase "
       "report (the slowest rank's), whole process from its wall-time line. Every rank builds the "
