@@ -12,6 +12,9 @@
 #                                         without the post-operative truth
 #                                         (Table 2 only: no skin distances)
 #   benchmarks/patients/run.sh --report-only
+#   benchmarks/patients/run.sh --no-report P4
+#                                         run without writing the report (a
+#                                         cluster's array task; see slurm.sh)
 #
 # Needs a built build/softface and Debian's python3-numpy, python3-matplotlib.
 # Each patient's outputs (and its stage files, reused by a second run with
@@ -35,12 +38,14 @@ fi
 patients=()
 report_only=0
 no_truth=0
+no_report=0
 for a in "$@"; do
   case "$a" in
     --report-only) report_only=1 ;;
     --no-truth) no_truth=1 ;;
+    --no-report) no_report=1 ;;
     P*) patients+=("$a") ;;
-    *) echo "usage: $0 [--report-only] [--no-truth] [P1 ... P10]"; exit 2 ;;
+    *) echo "usage: $0 [--report-only] [--no-truth] [--no-report] [P1 ... P10]"; exit 2 ;;
   esac
 done
 [ ${#patients[@]} -eq 0 ] && patients=(P1 P2 P3 P4 P5 P6 P7 P8 P9 P10)
@@ -83,4 +88,5 @@ if [ $report_only -eq 0 ]; then
   done
 fi
 
+[ $no_report -eq 1 ] && exit 0
 /usr/bin/python3 benchmarks/patients/report.py "$work" "$results"
