@@ -238,6 +238,20 @@ namespace softface
                             /*log_history=*/false,
                             /*log_result=*/false);
       SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
+      // As the serial solver does: a step length alpha <= 0 means
+      // p^T K p <= 0 (K not positive definite); alpha is a global value, so
+      // every rank stops at the same iteration.
+      bool negative_curvature = false;
+      cg.connect_coefficients_slot([&](const double alpha, const double) {
+        if (!(alpha > 0.))
+          negative_curvature = true;
+      });
+      cg.connect([&](const unsigned int,
+                     const double,
+                     const TrilinosWrappers::MPI::Vector &) {
+        return negative_curvature ? SolverControl::failure :
+                                    SolverControl::success;
+      });
       try
         {
           cg.solve(stiffness, solution, rhs, *amg);
@@ -259,7 +273,11 @@ namespace softface
           m << "Linear elasticity on " << Utilities::MPI::n_mpi_processes(comm)
             << " ranks: CG did not converge in " << result.iterations
             << " iterations (relative residual " << result.relative_residual
-            << ").";
+            << ")"
+            << (negative_curvature ?
+                  ": it found negative curvature, the stiffness is not "
+                  "positive definite." :
+                  ".");
           throw Error(m.str());
         }
       joins.distribute(solution);
