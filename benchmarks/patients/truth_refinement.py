@@ -24,37 +24,7 @@ import matplotlib
 matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
-
-def read_ply_points(path):
-    """The vertices of a binary little-endian PLY whose vertices are three
-    floats (what softface writes)."""
-    with open(path, "rb") as f:
-        n, header = None, []
-        while True:
-            line = f.readline()
-            if not line:
-                sys.exit(f"truth_refinement: {path}: no end_header")
-            line = line.decode("ascii", "replace").strip()
-            header.append(line)
-            if line.startswith("element vertex"):
-                n = int(line.split()[2])
-            if line == "end_header":
-                break
-        if "format binary_little_endian 1.0" not in header or n is None:
-            sys.exit(f"truth_refinement: {path}: not a binary little-endian "
-                     "PLY with vertices")
-        vertex_props = []
-        in_vertex = False
-        for line in header:
-            if line.startswith("element"):
-                in_vertex = line.startswith("element vertex")
-            elif in_vertex and line.startswith("property"):
-                vertex_props.append(line.split())
-        if [p[1] for p in vertex_props] != ["float"] * 3:
-            sys.exit(f"truth_refinement: {path}: expected vertices of three "
-                     "floats")
-        data = np.fromfile(f, dtype="<f4", count=3 * n)
-    return data.reshape(n, 3).astype(float)
+import render  # noqa: E402  (benchmarks/patients/render.py: read_ply)
 
 
 def summary(directory):
@@ -104,8 +74,8 @@ def main():
         if s["status"] != "ok":
             failed.append((factor, int(s["n_tets"]), s["error"]))
             continue
-        pre = read_ply_points(os.path.join(d, "skin_preoperative.ply"))
-        post = read_ply_points(os.path.join(d, "skin_reference_fem.ply"))
+        pre = render.read_ply(os.path.join(d, "skin_preoperative.ply"))[0]
+        post = render.read_ply(os.path.join(d, "skin_reference_fem.ply"))[0]
         with open(os.path.join(d, "wall_ms")) as f:
             wall = int(f.read()) / 1000.0
         levels.append(dict(factor=factor, tets=int(s["n_tets"]),

@@ -49,7 +49,6 @@ namespace softface
         return size;
       }
 
-
       // The cores this process may run on (a launcher or batch system that
       // binds it gives it fewer than the machine has).
       unsigned int
@@ -71,15 +70,11 @@ namespace softface
       // for 100000 made as many assembly parts); ranks on one machine share
       // its cores, and none uses more than it is bound to.
       const unsigned int cores = cores_of_this_process();
-      const unsigned int ranks = ranks_on_this_machine();
-      if (n == 0)
-        dealii::MultithreadInfo::set_thread_limit(
-          ranks == 1 && cores == dealii::MultithreadInfo::n_cores() ?
-            dealii::numbers::invalid_unsigned_int :
-            std::max(
-              1u, std::min(cores, dealii::MultithreadInfo::n_cores() / ranks)));
-      else
-        dealii::MultithreadInfo::set_thread_limit(std::min(n, cores));
+      const unsigned int share =
+        std::max(1u,
+                 dealii::MultithreadInfo::n_cores() / ranks_on_this_machine());
+      dealii::MultithreadInfo::set_thread_limit(
+        std::min(n == 0 ? share : n, cores));
     }
 
     unsigned int

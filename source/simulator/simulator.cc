@@ -84,10 +84,7 @@ namespace softface
         for (unsigned int p = 0; p < n_phases; ++p)
           s.phases[p].second = largest[4 + p];
     }
-  } // namespace
 
-  namespace
-  {
     struct OutputParameters
     {
       static void
