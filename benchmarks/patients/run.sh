@@ -49,6 +49,10 @@ for a in "$@"; do
   esac
 done
 [ ${#patients[@]} -eq 0 ] && patients=(P1 P2 P3 P4 P5 P6 P7 P8 P9 P10)
+for p in "${patients[@]}"; do
+  [ -f "prm/patients/$p.prm" ] && [ -f "prm/patients/${p}_truth.prm" ] ||
+    { echo "patients: no patient $p (prm/patients/$p.prm and ${p}_truth.prm)"; exit 2; }
+done
 
 if [ $report_only -eq 0 ]; then
   for p in "${patients[@]}"; do

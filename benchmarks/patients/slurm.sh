@@ -21,7 +21,12 @@ time_limit=02:00:00
 partition=""
 dry_run=0
 patients=()
+usage="usage: $0 [--dry-run] [--cpus N] [--mem SIZE] [--time HH:MM:SS] [--partition NAME] [P1 ... P10]"
 while [ $# -gt 0 ]; do
+  case "$1" in
+    --cpus | --mem | --time | --partition)
+      [ $# -ge 2 ] || { echo "slurm: $1 needs a value"; echo "$usage"; exit 2; } ;;
+  esac
   case "$1" in
     --dry-run) dry_run=1 ;;
     --cpus) cpus=$2; shift ;;
@@ -29,11 +34,15 @@ while [ $# -gt 0 ]; do
     --time) time_limit=$2; shift ;;
     --partition) partition=$2; shift ;;
     P*) patients+=("$1") ;;
-    *) echo "usage: $0 [--dry-run] [--cpus N] [--mem SIZE] [--time HH:MM:SS] [--partition NAME] [P1 ... P10]"; exit 2 ;;
+    *) echo "$usage"; exit 2 ;;
   esac
   shift
 done
 [ ${#patients[@]} -eq 0 ] && patients=(P1 P2 P3 P4 P5 P6 P7 P8 P9 P10)
+[[ "$cpus" =~ ^[1-9][0-9]*$ ]] || { echo "slurm: --cpus takes a positive number (got '$cpus')"; exit 2; }
+for p in "${patients[@]}"; do
+  [ -f "prm/patients/$p.prm" ] || { echo "slurm: no patient $p (prm/patients/$p.prm)"; exit 2; }
+done
 [ -x build/softface ] || { echo "slurm: build/softface is missing; build it first (./test.sh or ./run.sh)"; exit 1; }
 
 dir=build/benchmarks/patients/slurm
