@@ -1,10 +1,11 @@
 // A scene file run by the simulator on several MPI ranks (issue 20), by
 // ctest on 2 and 3 ranks (mpi_run_scene.mpirun=N.output): every rank ends
 // with exit code 0 and the serial models' answers (linear FEM distributed:
-// equal to the serial model to 1e-8 relative; the mass tensor model, run
-// whole on every rank: equal to a serial run); linear FEM says it ran on the
-// ranks; rank 0 alone writes (each rank names its own output folder, only
-// rank 0's exists); a patient scene is refused on every rank.
+// equal to the serial model to 1e-8 relative; the mass tensor model
+// distributed too: within its stop distance, 0.1 mm, of a serial run); both
+// say they ran on the ranks; rank 0 alone writes (each rank names its own
+// output folder, only rank 0's exists); a patient scene is refused on every
+// rank.
 
 #include <deal.II/base/mpi.h>
 
@@ -67,10 +68,15 @@ SOFTFACE_TEST(mpi_run_scene)
 
   // Linear FEM: distributed, and its answer the serial model's.
   check_equal("linear fem ran on every rank", runs[0].failed, false);
-  bool distributed = false;
-  for (const auto &detail : runs[0].statistics.details)
-    distributed |= detail.name == "MPI ranks" && detail.value == n_ranks;
-  check_equal("linear fem says it ran on the ranks", distributed, true);
+  const auto ran_on_the_ranks = [&](const Report::ModelRun &run) {
+    bool distributed = false;
+    for (const auto &detail : run.statistics.details)
+      distributed |= detail.name == "MPI ranks" && detail.value == n_ranks;
+    return distributed;
+  };
+  check_equal("linear fem says it ran on the ranks",
+              ran_on_the_ranks(runs[0]),
+              true);
   Models::LinearFEM serial;
   serial.set_communicator(MPI_COMM_SELF);
   serial.set_solver("cg amg", 1e-12);
@@ -84,15 +90,20 @@ SOFTFACE_TEST(mpi_run_scene)
               runs[0].displacement.linfty_norm(),
               5.9);
 
-  // The mass tensor model, whole on every rank: the serial answer.
+  // The mass tensor model, distributed: the ranks sweep in another order,
+  // and each answer is within the stop distance of the converged one.
+  check_equal("mass tensor says it ran on the ranks",
+              ran_on_the_ranks(runs[1]),
+              true);
   auto mass_tensor = Models::create("mass tensor", simulator.parameters());
+  mass_tensor->set_communicator(MPI_COMM_SELF);
   mass_tensor->setup(scene);
   mass_tensor->solve(prescribed, expected);
   Vector<double> difference = runs[1].displacement;
   difference -= expected;
   check_below("mass tensor: largest difference to a serial run (mm)",
               difference.linfty_norm(),
-              1e-9);
+              0.1);
 
   // Rank 0 alone wrote its outputs: the summary has a row per model, and
   // the other ranks' folders do not exist.

@@ -27,6 +27,38 @@ namespace softface
                 "'; use 'cell order' or 'metis'.");
   }
 
+  void
+  DistributedLayout::declare_partitioner(ParameterHandler &prm)
+  {
+    prm.declare_entry("Partitioner",
+                      "cell order",
+                      Patterns::Selection("cell order|metis"),
+                      "On several MPI ranks (mpirun), how the cells are "
+                      "shared among them: 'cell order' (contiguous pieces "
+                      "of the cells' order, a space-filling curve for a "
+                      "read mesh) or 'metis' (METIS on the cells' face "
+                      "graph: fewer faces between the ranks).");
+  }
+
+  SharedDistributedLayout::SharedDistributedLayout(
+    const MPI_Comm                       communicator,
+    const DistributedLayout::Partitioner partitioner)
+      : communicator(communicator)
+      , partitioner(partitioner)
+  {}
+
+  const DistributedLayout &
+  SharedDistributedLayout::get(const Scene &scene)
+  {
+    if (!layout || &layout->scene != &scene)
+      {
+        layout.reset();
+        layout =
+          std::make_unique<DistributedLayout>(scene, communicator, partitioner);
+      }
+    return *layout;
+  }
+
   DistributedLayout::DistributedLayout(const Scene      &scene,
                                        const MPI_Comm    communicator,
                                        const Partitioner partitioner)

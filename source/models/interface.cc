@@ -4,6 +4,7 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/models/interface.h>
 
@@ -198,6 +199,31 @@ namespace softface
       initial_guess = guess;
     }
 
+    void
+    Interface::set_communicator(const MPI_Comm communicator_in)
+    {
+      communicator = communicator_in;
+    }
+
+    void
+    Interface::set_shared_layout(
+      const std::shared_ptr<SharedDistributedLayout> &layout)
+    {
+      shared_layout = layout;
+    }
+
+    const DistributedLayout &
+    Interface::distributed_layout(const Scene &scene)
+    {
+      if (shared_layout && shared_layout->communicator == communicator)
+        return shared_layout->get(scene);
+      // The model's own, made anew for each setup (a scene at the address
+      // of an earlier one is not that scene).
+      own_layout = std::make_shared<SharedDistributedLayout>(
+        communicator, DistributedLayout::Partitioner::cell_order);
+      return own_layout->get(scene);
+    }
+
     TimerOutput::Scope
     Interface::phase(const std::string &name, const bool diagnostic)
     {
@@ -300,6 +326,7 @@ namespace softface
         "relative at 491k tetrahedra, far below its tolerance). The linear "
         "solvers' preconditioners (Trilinos ML, CHOLMOD), the mesh read and "
         "the quadratic reference's assembly run on one.");
+      DistributedLayout::declare_partitioner(prm);
       registry().declare_subsections(prm);
       prm.leave_subsection();
     }

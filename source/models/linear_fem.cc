@@ -15,17 +15,9 @@ namespace softface
 {
   namespace Models
   {
-    LinearFEM::LinearFEM()
-        : communicator(MPI_COMM_WORLD)
-    {}
+    LinearFEM::LinearFEM() = default;
 
     LinearFEM::~LinearFEM() = default;
-
-    void
-    LinearFEM::set_communicator(const MPI_Comm communicator_in)
-    {
-      communicator = communicator_in;
-    }
 
     void
     LinearFEM::declare_parameters(ParameterHandler &prm)
@@ -48,14 +40,6 @@ namespace softface
                         Patterns::Integer(1),
                         "An iterative solve that needs more iterations stops "
                         "with an error stating the residual reached.");
-      prm.declare_entry("Partitioner",
-                        "cell order",
-                        Patterns::Selection("cell order|metis"),
-                        "On several MPI ranks (mpirun), how the cells are "
-                        "shared among them: 'cell order' (contiguous pieces "
-                        "of the cells' order, a space-filling curve for a "
-                        "read mesh) or 'metis' (METIS on the cells' face "
-                        "graph: fewer faces between the ranks).");
       LinearSolver::Parameters().declare_tuning_parameters(prm, false);
     }
 
@@ -67,7 +51,6 @@ namespace softface
         prm.get_double("Relative tolerance");
       solver_parameters.max_iterations = prm.get_integer("Maximum iterations");
       solver_parameters.parse_tuning_parameters(prm, false);
-      partitioner = prm.get("Partitioner");
     }
 
     unsigned int
@@ -98,7 +81,7 @@ namespace softface
     {
       scene = &scene_in;
       distributed.reset();
-      layout.reset();
+      layout = nullptr;
       if (Utilities::MPI::n_mpi_processes(communicator) > 1)
         {
           setup_distributed();
@@ -160,10 +143,7 @@ namespace softface
         throw Error("linear fem: nodal forces are not distributed yet.");
       {
         const auto timed = phase("partition");
-        layout           = std::make_unique<DistributedLayout>(
-          *scene,
-          communicator,
-          DistributedLayout::parse_partitioner(partitioner));
+        layout           = &distributed_layout(*scene);
       }
       distributed = std::make_unique<DistributedElasticity::LinearSystem>();
       {

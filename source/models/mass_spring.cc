@@ -2,11 +2,15 @@
 // constants, nonlinear in the positions, and its static equilibrium by local
 // steepest descent with the seed's dynamic cut-out.
 
+#include <deal.II/base/mpi.h>
+
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/mass_spring.h>
+#include <softface/models/point_exchange.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +22,10 @@ namespace softface
 {
   namespace Models
   {
+    MassSpring::MassSpring() = default;
+
+    MassSpring::~MassSpring() = default;
+
     void
     MassSpring::declare_parameters(ParameterHandler &prm)
     {
@@ -96,7 +104,7 @@ namespace softface
     {
       scene = &scene_in;
       last_position.clear();
-      const auto timed     = phase("springs");
+      auto timed           = phase("springs");
       mesh                 = std::make_unique<PointMesh>(*scene, "mass spring");
       const unsigned int n = mesh->n_points();
       const auto        &row_start = mesh->row_start;
@@ -159,6 +167,25 @@ namespace softface
           tets_of_point[next_slot[p]++] = t;
 
       add_detail("springs", spring_list.size());
+      timed.stop();
+
+      // On several MPI ranks each moves the points it owns (issue 20). A
+      // constrained step moves its partner, which another rank may own:
+      // with vertex constraints every rank runs the model whole.
+      exchange.reset();
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      if (n_ranks > 1 && !scene->has_vertex_constraints())
+        {
+          const auto               partition = phase("partition");
+          const DistributedLayout &layout    = distributed_layout(*scene);
+          exchange = std::make_unique<PointExchange>(layout,
+                                                     mesh->row_start,
+                                                     mesh->neighbour);
+          add_detail("MPI ranks", n_ranks);
+        }
+      else if (n_ranks > 1)
+        add_detail("MPI ranks", "1 (vertex constraints: whole on every rank)");
     }
 
     void
@@ -172,6 +199,22 @@ namespace softface
       const auto        &tetrahedra    = mesh->tetrahedra;
       const auto        &rest_position = mesh->position;
       const unsigned int n             = rest_position.size();
+      // The points this rank moves: the free ones, on several MPI ranks
+      // those it owns. Every decision to go on or stop is a global one.
+      std::vector<char> mine(n);
+      for (unsigned int j = 0; j < n; ++j)
+        mine[j] = is_free[j] && (!exchange || exchange->owns(j));
+      const auto global_sum = [&](const unsigned long long local) {
+        return exchange ? Utilities::MPI::sum(local, communicator) : local;
+      };
+      const auto global_max = [&](const double local) {
+        return exchange ? Utilities::MPI::max(local, communicator) : local;
+      };
+      static_assert(sizeof(Point<3>) == 3 * sizeof(double),
+                    "the exchange reads positions as 3 doubles per point");
+      // Ghost points that moved in an exchange; a sweep's points split into
+      // those with and without a neighbour on another rank.
+      std::vector<unsigned int> moved_ghosts, interior_points, border_points;
 
       // Warm start: from the previous plan's answer; the load steps carry
       // the join points from that plan's positions ('start') to this one's.
@@ -373,7 +416,7 @@ namespace softface
           // The load is there from the start: every free point feels it.
           if (load_step == 1 && load != nullptr)
             for (unsigned int j = 0; j < n; ++j)
-              if (is_free[j])
+              if (mine[j])
                 active.queue(j);
           for (const unsigned int j : moving_joins)
             {
@@ -383,13 +426,15 @@ namespace softface
               for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                 {
                   const unsigned int k = other_end[i];
-                  if (is_free[k])
+                  if (mine[k])
                     active.queue(k);
                 }
             }
 
+          // On several ranks a rank with no point to move sweeps on with
+          // the others, to exchange.
           for (const std::vector<unsigned int> *current = &active.next_sweep();
-               !current->empty();
+               global_sum(current->size()) > 0;
                current = &active.next_sweep())
             {
               if (sweep == max_sweeps)
@@ -399,10 +444,12 @@ namespace softface
                     pending =
                       std::max(pending,
                                force(j, shortest).norm() / total_stiffness[j]);
+                  pending = global_max(pending);
                   std::ostringstream m;
                   m << "mass spring: " << max_sweeps
                     << " sweeps were not enough (load step " << load_step
-                    << " of " << n_load_steps << "); " << current->size()
+                    << " of " << n_load_steps << "); "
+                    << global_sum(current->size())
                     << " points are still active, largest pending step "
                     << pending << " mm (threshold " << stop_threshold
                     << " mm).";
@@ -410,22 +457,27 @@ namespace softface
                 }
               ++sweep;
               point_updates += current->size();
-              if (progress != nullptr && sweep % 1000 == 0)
-                *progress << "      sweep " + std::to_string(sweep) +
-                               " (load step " + std::to_string(load_step) +
-                               " of " + std::to_string(n_load_steps) +
-                               "): " + std::to_string(current->size()) +
-                               " active points\n"
-                          << std::flush;
+              if (sweep % 1000 == 0)
+                {
+                  const auto n_active = global_sum(current->size());
+                  if (progress != nullptr)
+                    *progress
+                      << "      sweep " + std::to_string(sweep) +
+                           " (load step " + std::to_string(load_step) + " of " +
+                           std::to_string(n_load_steps) +
+                           "): " + std::to_string(n_active) + " active points\n"
+                      << std::flush;
+                }
               // The blocks of one colour at once (BlockColouring), each over
               // its points of this sweep in order; the colours in turn.
+              const std::vector<unsigned int> *phase_points = current;
               const auto block_update = [&](const unsigned int b,
                                             const std::size_t  begin,
                                             const std::size_t  end) {
                 std::vector<unsigned int> &queued = block_queued[b];
                 for (std::size_t q = begin; q < end; ++q)
                   {
-                    const unsigned int j = (*current)[q];
+                    const unsigned int j = (*phase_points)[q];
                     {
                       Tensor<1, 3>       step = free_step(j), step_other;
                       const unsigned int partner =
@@ -489,7 +541,7 @@ namespace softface
                         for (unsigned int i = row_start[moved];
                              i < row_start[moved + 1];
                              ++i)
-                          if (is_free[other_end[i]])
+                          if (mine[other_end[i]])
                             active.queue(other_end[i], queued);
                       };
                       queue_around(j);
@@ -498,10 +550,42 @@ namespace softface
                     }
                   }
               };
-              colouring.sweep(*current, block_update);
+              if (!exchange)
+                colouring.sweep(*current, block_update);
+              else
+                {
+                  // Interior points, then the border points colour by
+                  // colour (PointExchange): a Gauss-Seidel sweep over all
+                  // ranks. A ghost that moved changed the force on its
+                  // neighbours here.
+                  exchange->split(*current, interior_points, border_points);
+                  phase_points = &interior_points;
+                  colouring.sweep(interior_points, block_update);
+                  for (unsigned int c = 0; c < exchange->n_colours(); ++c)
+                    {
+                      if (c == exchange->colour())
+                        {
+                          phase_points = &border_points;
+                          colouring.sweep(border_points, block_update);
+                        }
+                      moved_ghosts.clear();
+                      exchange->exchange(&x[0][0], 0., moved_ghosts);
+                      for (const unsigned int g : moved_ghosts)
+                        for (unsigned int i = row_start[g];
+                             i < row_start[g + 1];
+                             ++i)
+                          if (mine[other_end[i]])
+                            active.queue(other_end[i]);
+                    }
+                }
+              bool any_not_finite =
+                std::find(not_finite.begin(), not_finite.end(), 1) !=
+                not_finite.end();
+              if (exchange)
+                any_not_finite = global_max(any_not_finite) > 0.;
               for (unsigned int b = 0; b < n_blocks; ++b)
                 {
-                  if (not_finite[b])
+                  if (any_not_finite)
                     throw Error("mass spring: the force on a point became "
                                 "infinite or NaN (a spring of zero length) "
                                 "in sweep " +
@@ -513,6 +597,13 @@ namespace softface
             }
         }
 
+      if (exchange)
+        {
+          const auto timed = phase("gather");
+          exchange->gather(&x[0][0]);
+          blocked_updates = global_sum(blocked_updates);
+        }
+      point_updates = global_sum(point_updates);
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
         for (unsigned int c = 0; c < 3; ++c)
@@ -524,7 +615,7 @@ namespace softface
       last_report.point_updates = point_updates;
       double residual           = 0.;
       for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j])
+        if (mine[j])
           {
             double       shortest;
             Tensor<1, 3> F = force(j, shortest);
@@ -543,6 +634,17 @@ namespace softface
               std::max(last_report.max_step, f / total_stiffness[j]);
             residual += f * f;
           }
+      if (exchange)
+        {
+          residual             = Utilities::MPI::sum(residual, communicator);
+          last_report.max_step = global_max(last_report.max_step);
+          add_detail("points per rank (largest)",
+                     Utilities::MPI::max(exchange->n_owned_points(),
+                                         communicator));
+          add_detail("ghost points per rank (largest)",
+                     Utilities::MPI::max(exchange->n_ghost_points(),
+                                         communicator));
+        }
       for (const auto &t : tetrahedra)
         last_report.inverted_tetrahedra +=
           (Tetrahedron::signed_volume({{x[t[0]], x[t[1]], x[t[2]], x[t[3]]}}) <=

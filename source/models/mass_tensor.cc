@@ -3,16 +3,19 @@
 // stop criterion and active set, and the precision against the converged
 // answer of the same equations.
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
 #include <softface/core/displacement.h>
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/active_set.h>
 #include <softface/models/mass_tensor.h>
+#include <softface/models/point_exchange.h>
 
 #include <algorithm>
 #include <cmath>
@@ -50,6 +53,10 @@ namespace softface
         }
       };
     } // namespace
+
+    MassTensor::MassTensor() = default;
+
+    MassTensor::~MassTensor() = default;
 
     void
     MassTensor::declare_parameters(ParameterHandler &prm)
@@ -232,7 +239,7 @@ namespace softface
       scene           = &scene_in;
       converged_ready = false;
       converged_constraints.reset();
-      const auto timed     = phase("tensors");
+      auto timed           = phase("tensors");
       mesh                 = std::make_unique<PointMesh>(*scene, "mass tensor");
       const unsigned int n = mesh->n_points();
 
@@ -311,6 +318,25 @@ namespace softface
                   n * 2 * sizeof(Block)) /
                    1048576.,
                  "MB");
+      timed.stop();
+
+      // On several MPI ranks each updates the points it owns (issue 20).
+      // A constrained update moves its partner, which another rank may own:
+      // with vertex constraints every rank runs the model whole.
+      exchange.reset();
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      if (n_ranks > 1 && point_constraints.empty())
+        {
+          const auto               partition = phase("partition");
+          const DistributedLayout &layout    = distributed_layout(*scene);
+          exchange = std::make_unique<PointExchange>(layout,
+                                                     mesh->row_start,
+                                                     mesh->neighbour);
+          add_detail("MPI ranks", n_ranks);
+        }
+      else if (n_ranks > 1)
+        add_detail("MPI ranks", "1 (vertex constraints: whole on every rank)");
     }
 
     void
@@ -513,6 +539,19 @@ namespace softface
                                        convergence_tolerance;
       const unsigned int W         = gradient_window;
       const double       w         = relaxation_factor();
+      // The points this rank updates: the free ones, on several MPI ranks
+      // those it owns. Every decision to go on or stop is a global one.
+      std::vector<char> mine(n);
+      for (unsigned int j = 0; j < n; ++j)
+        mine[j] = is_free[j] && (!exchange || exchange->owns(j));
+      const bool any_free =
+        std::find(is_free.begin(), is_free.end(), true) != is_free.end();
+      const auto global_sum = [&](const unsigned long long local) {
+        return exchange ? Utilities::MPI::sum(local, communicator) : local;
+      };
+      const auto global_max = [&](const double local) {
+        return exchange ? Utilities::MPI::max(local, communicator) : local;
+      };
 
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
@@ -536,7 +575,7 @@ namespace softface
       // (every free point without the active set).
       ActiveSet active(n);
       for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j])
+        if (mine[j])
           {
             bool touched =
               !use_active_set || load != nullptr ||
@@ -557,7 +596,7 @@ namespace softface
       // Every free point: the sweeps that verify a stop visit them all.
       std::vector<unsigned int> every_free;
       for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j])
+        if (mine[j])
           every_free.push_back(j);
 
       // The precision needs the converged answer (the study during the
@@ -584,15 +623,27 @@ namespace softface
                      "active_points\n"
                   << std::setprecision(6);
         }
+      // Collective on several ranks.
       const auto record_history = [&](const unsigned int sweep_number,
                                       const std::size_t  n_active) {
         double gradient = 0.;
         for (unsigned int j = 0; j < n; ++j)
-          if (is_free[j] && n_updates[j] > 0)
+          if (mine[j] && n_updates[j] > 0)
             gradient =
               std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
+        gradient = global_max(gradient);
+        Vector<double> whole;
+        if (exchange)
+          {
+            whole = displacement;
+            exchange->gather(whole.begin());
+          }
         const auto distance =
-          Displacement::free_vertex_difference(*scene, displacement, converged);
+          Displacement::free_vertex_difference(*scene,
+                                               exchange ? whole : displacement,
+                                               converged);
+        if (!history.is_open())
+          return;
         history << sweep_number << ',' << distance.max << ',' << distance.mean
                 << ',' << gradient << ',' << n_active << '\n';
       };
@@ -600,7 +651,10 @@ namespace softface
       std::vector<std::array<double, 3>> jacobi_values;
       unsigned int                       sweep         = 0;
       unsigned long long                 point_updates = 0;
-      bool                               done          = all_touched.empty();
+      bool done = global_sum(all_touched.size()) == 0;
+      // Ghost points that moved in an exchange; a sweep's points split into
+      // those with and without a neighbour on another rank.
+      std::vector<unsigned int> moved_ghosts, interior_points, border_points;
       // The check of a proposed stop (see "Stop distance"): the largest
       // change of every sweep since the sweeps last restarted. The rate is
       // measured over the second half of them: the slow error modes' rate
@@ -610,8 +664,8 @@ namespace softface
       // point) measured 0.59 and then 0.989 per sweep where the distance
       // left asked for 0.997, so it promised 0.002 and then 0.09 mm where
       // 0.40 mm were left.
-      const bool verify = stop_distance > 0. && stop_gradient_threshold > 0. &&
-                          !every_free.empty();
+      const bool verify =
+        stop_distance > 0. && stop_gradient_threshold > 0. && any_free;
       std::vector<double>    sweep_changes;
       constexpr unsigned int max_stop_checks    = 100;
       bool                   unchecked_stop     = false;
@@ -633,9 +687,10 @@ namespace softface
               double g = 0.;
               for (const unsigned int j : current)
                 g = std::max(g, step_sum[j] / W);
+              g = global_max(g);
               std::ostringstream m;
               m << std::setprecision(3) << "mass tensor: " << max_sweeps
-                << " sweeps were not enough; " << current.size()
+                << " sweeps were not enough; " << global_sum(current.size())
                 << " points are still active, largest gradient " << g
                 << " mm per sweep (threshold " << threshold;
               if (threshold < stop_gradient_threshold)
@@ -646,15 +701,20 @@ namespace softface
             }
           ++sweep;
           point_updates += current.size();
-          if (progress != nullptr && sweep % 1000 == 0)
-            *progress << "      sweep " + std::to_string(sweep) + ": " +
-                           std::to_string(current.size()) + " active points\n"
-                      << std::flush;
+          if (sweep % 1000 == 0)
+            {
+              const auto n_active = global_sum(current.size());
+              if (progress != nullptr)
+                *progress << "      sweep " + std::to_string(sweep) + ": " +
+                               std::to_string(n_active) + " active points\n"
+                          << std::flush;
+            }
           if (!gauss_seidel)
             jacobi_values.resize(current.size());
 
           // The blocks of one colour at once (BlockColouring), each over
           // its points of this sweep in order; the colours in turn.
+          const std::vector<unsigned int> *phase_points = &current;
           const auto block_update = [&](const unsigned int b,
                                         const std::size_t  q_begin,
                                         const std::size_t  q_end) {
@@ -664,7 +724,7 @@ namespace softface
             bool all_stopped                          = true;
             for (auto q = q_begin; q < q_end; ++q)
               {
-                const unsigned int j = current[q];
+                const unsigned int j = (*phase_points)[q];
                 // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
                 double f0 = 0., f1 = 0., f2 = 0.;
                 if (load != nullptr)
@@ -735,42 +795,101 @@ namespace softface
                   active.queue(j, queued);
                 if (step > threshold)
                   for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                    if (is_free[neighbour[i]])
+                    if (mine[neighbour[i]])
                       active.queue(neighbour[i], queued);
               }
             block_stopped[b] = all_stopped;
           };
-          colouring->sweep(current, block_update);
           bool   all_stopped    = true;
-          double largest_change = 0.;
-          for (unsigned int b = 0; b < n_blocks; ++b)
+          double largest_change = 0., largest_divergence = 0.;
+          // A phase of the sweep, its blocks' results folded into the
+          // sweep's.
+          const auto run_phase = [&](const std::vector<unsigned int> &points) {
+            phase_points = &points;
+            colouring->sweep(points, block_update);
+            for (unsigned int b = 0; b < n_blocks; ++b)
+              {
+                if (!(diverged[b] == 0.)) // NaN too
+                  largest_divergence =
+                    std::isnan(diverged[b]) ?
+                      std::numeric_limits<double>::infinity() :
+                      std::max(largest_divergence, diverged[b]);
+                diverged[b] = 0.;
+                all_stopped &= block_stopped[b];
+                largest_change = std::max(largest_change, block_largest[b]);
+                active.add(block_queued[b]);
+              }
+          };
+          // The ranks' borders: a ghost that moved by more than the
+          // threshold changed the force on its neighbours here.
+          const auto exchange_borders = [&]() {
+            moved_ghosts.clear();
+            exchange->exchange(u, threshold, moved_ghosts);
+            if (use_active_set)
+              for (const unsigned int g : moved_ghosts)
+                for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
+                  if (mine[neighbour[i]])
+                    active.queue(neighbour[i]);
+          };
+          if (!exchange || !gauss_seidel)
+            run_phase(current);
+          else
             {
-              if (!(diverged[b] == 0.)) // NaN too
+              // Interior points, then the border points colour by colour
+              // (PointExchange): a Gauss-Seidel sweep over all ranks.
+              exchange->split(current, interior_points, border_points);
+              run_phase(interior_points);
+              for (unsigned int c = 0; c < exchange->n_colours(); ++c)
                 {
-                  std::ostringstream m;
-                  m << std::setprecision(3) << "mass tensor ("
-                    << (gauss_seidel ? "gauss-seidel" : "jacobi")
-                    << "): the local updates diverge (a point moved by "
-                    << diverged[b] << " mm in sweep " << sweep
-                    << "). Jacobi order does not converge for every mesh and "
-                       "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
-                       "'Relaxation factor' below 1.";
-                  throw Error(m.str());
+                  if (c == exchange->colour())
+                    run_phase(border_points);
+                  exchange_borders();
                 }
-              all_stopped &= block_stopped[b];
-              largest_change = std::max(largest_change, block_largest[b]);
-              active.add(block_queued[b]);
+            }
+          if (exchange)
+            largest_divergence = global_max(largest_divergence);
+          if (largest_divergence > 0.)
+            {
+              std::ostringstream m;
+              m << std::setprecision(3) << "mass tensor ("
+                << (gauss_seidel ? "gauss-seidel" : "jacobi")
+                << "): the local updates diverge (a point moved by "
+                << largest_divergence << " mm in sweep " << sweep
+                << "). Jacobi order does not converge for every mesh and "
+                   "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
+                   "'Relaxation factor' below 1.";
+              throw Error(m.str());
             }
           if (!gauss_seidel)
-            for (unsigned int q = 0; q < current.size(); ++q)
-              for (unsigned int c = 0; c < 3; ++c)
-                u[3 * current[q] + c] = jacobi_values[q][c];
+            {
+              for (unsigned int q = 0; q < current.size(); ++q)
+                for (unsigned int c = 0; c < 3; ++c)
+                  u[3 * current[q] + c] = jacobi_values[q][c];
+              if (exchange)
+                exchange_borders();
+            }
+          bool none_next = false;
+          if (use_active_set)
+            none_next = active.next_sweep().empty();
+          if (exchange)
+            {
+              // One reduction for every global decision of this sweep.
+              std::array<double, 3> local = {
+                {largest_change, double(!all_stopped), double(!none_next)}};
+              Utilities::MPI::max(ArrayView<const double>(local),
+                                  communicator,
+                                  ArrayView<double>(local));
+              largest_change = local[0];
+              all_stopped    = local[1] == 0.;
+              none_next      = local[2] == 0.;
+            }
 
-          if (history.is_open())
-            record_history(sweep, current.size());
+          if (history.is_open() ||
+              (exchange && !precision_history_file.empty()))
+            record_history(sweep, global_sum(current.size()));
           sweep_changes.push_back(largest_change);
           // The seed's criterion (2.3.3) proposes the stop.
-          done = use_active_set ? active.next_sweep().empty() : all_stopped;
+          done = use_active_set ? none_next : all_stopped;
           if (!done || !verify)
             continue;
           ++n_verifications;
@@ -825,11 +944,16 @@ namespace softface
         }
       const double sweep_time = sweep_timer.wall_time();
       sweeps_phase.stop();
+      if (exchange)
+        {
+          const auto timed = phase("gather");
+          exchange->gather(u);
+        }
 
       // Residual force on the free points against the force at the start.
       double residual = 0., initial = 0.;
       for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j])
+        if (mine[j])
           {
             double r[3] = {0., 0., 0.}, f[3] = {0., 0., 0.};
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
@@ -881,22 +1005,45 @@ namespace softface
               }
           }
 
+      const unsigned long long own_updates = point_updates;
+      if (exchange)
+        {
+          std::array<double, 2> sums = {{residual, initial}};
+          Utilities::MPI::sum(ArrayView<const double>(sums),
+                              communicator,
+                              ArrayView<double>(sums));
+          residual      = sums[0];
+          initial       = sums[1];
+          point_updates = global_sum(point_updates);
+        }
+
       last_report               = Report();
       last_report.sweeps        = sweep;
       last_report.point_updates = point_updates;
       for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j] && n_updates[j] > 0)
+        if (mine[j] && n_updates[j] > 0)
           last_report.max_gradient =
             std::max(last_report.max_gradient,
                      step_sum[j] / std::min(n_updates[j], W));
+      last_report.max_gradient = global_max(last_report.max_gradient);
 
       set_iterations(sweep);
       set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
       add_detail("point updates", point_updates);
+      // A rank's own: its sweeps' time over the updates it made.
       add_detail("ns per update",
-                 point_updates ? 1e9 * sweep_time / point_updates : 0.,
+                 own_updates ? 1e9 * sweep_time / own_updates : 0.,
                  "",
                  true);
+      if (exchange)
+        {
+          add_detail("points per rank (largest)",
+                     Utilities::MPI::max(exchange->n_owned_points(),
+                                         communicator));
+          add_detail("ghost points per rank (largest)",
+                     Utilities::MPI::max(exchange->n_ghost_points(),
+                                         communicator));
+        }
       add_detail("max gradient", last_report.max_gradient, "mm/sweep");
       if (verify)
         {

@@ -7,6 +7,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/displacement.h>
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/planning.h>
 #include <softface/core/planning_list.h>
@@ -354,6 +355,18 @@ namespace softface
         Threads::set_limit(Models::selected_threads(prm));
         for (const std::string &name : Models::selected_names(prm))
           models.emplace_back(name, Models::create(name, prm));
+        // On several ranks the distributed models share one partition of
+        // the scene (Models/Partitioner), made when the first needs it.
+        if (n_ranks > 1)
+          {
+            prm.enter_subsection("Models");
+            const auto layout = std::make_shared<SharedDistributedLayout>(
+              MPI_COMM_WORLD,
+              DistributedLayout::parse_partitioner(prm.get("Partitioner")));
+            prm.leave_subsection();
+            for (auto &model : models)
+              model.second->set_shared_layout(layout);
+          }
         // Every selected model must simulate every effect the scene calls
         // for; this is known before any work.
         for (const std::string &name : Effects::selected_names(prm))

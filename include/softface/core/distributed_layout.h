@@ -3,6 +3,7 @@
 
 #include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.h>
+#include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/trilinos_vector.h>
@@ -10,6 +11,7 @@
 
 #include <softface/core/scene.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,6 +55,10 @@ namespace softface
     /// "cell order" or "metis".
     static Partitioner
     parse_partitioner(const std::string &name);
+
+    /// The "Partitioner" entry, in the handler's current subsection.
+    static void
+    declare_partitioner(ParameterHandler &prm);
 
     /**
      * Partition the scene's cells among the ranks of @p communicator and
@@ -99,6 +105,29 @@ namespace softface
     /// serial_dof() of each locally relevant DoF, by its place in
     /// locally_relevant_dofs.
     std::vector<types::global_dof_index> serial_dof_of_relevant;
+  };
+
+  /**
+   * The scene's DistributedLayout for every model of a run: built when the
+   * first model asks for it, then shared, so that a run partitions its scene
+   * once however many of its models are distributed.
+   */
+  class SharedDistributedLayout
+  {
+  public:
+    SharedDistributedLayout(const MPI_Comm                       communicator,
+                            const DistributedLayout::Partitioner partitioner);
+
+    /// The layout of @p scene (built by the first call for this scene:
+    /// collective then).
+    const DistributedLayout &
+    get(const Scene &scene);
+
+    const MPI_Comm                       communicator;
+    const DistributedLayout::Partitioner partitioner;
+
+  private:
+    std::unique_ptr<DistributedLayout> layout;
   };
 } // namespace softface
 

@@ -1,6 +1,7 @@
 #ifndef softface_models_interface_h
 #define softface_models_interface_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/timer.h>
 #include <deal.II/lac/vector.h>
@@ -19,6 +20,10 @@
 namespace softface
 {
   using namespace dealii;
+
+  class DistributedLayout;
+  class SharedDistributedLayout;
+
 
   namespace Models
   {
@@ -168,7 +173,34 @@ namespace softface
       void
       set_initial_guess(const Vector<double> *guess);
 
+      /**
+       * The MPI ranks that share the model's work (default MPI_COMM_WORLD).
+       * On more than one, the models that are distributed (linear FEM, the
+       * mass tensor and mass spring models) spread it over them at setup();
+       * MPI_COMM_SELF keeps a model whole on this rank in an MPI run.
+       */
+      void
+      set_communicator(const MPI_Comm communicator);
+
+      /**
+       * The run's layout on its ranks, shared by its distributed models
+       * (the simulator sets it); without it a distributed model partitions
+       * the scene itself, in cell order.
+       */
+      void
+      set_shared_layout(const std::shared_ptr<SharedDistributedLayout> &layout);
+
     protected:
+      /**
+       * The scene's layout on the model's ranks (more than one): the shared
+       * one, or else one of the model's own. Collective when it is built.
+       */
+      const DistributedLayout &
+      distributed_layout(const Scene &scene);
+
+      /// See set_communicator().
+      MPI_Comm communicator = MPI_COMM_WORLD;
+
       virtual void
       do_setup(const Scene &scene) = 0;
       virtual void
@@ -212,6 +244,7 @@ namespace softface
       const Vector<double> *converged_answer = nullptr;
 
     private:
+      std::shared_ptr<SharedDistributedLayout> shared_layout, own_layout;
       /// The phases the timer holds, in the order they first ran, and
       /// the time the diagnostic ones took.
       std::vector<std::pair<std::string, double>>
@@ -248,7 +281,6 @@ namespace softface
     /// "Models/Threads" of a parsed handler (0: every core).
     unsigned int
     selected_threads(ParameterHandler &prm);
-
     /// Create the model called @p name and let it parse its subsection.
     std::unique_ptr<Interface>
     create(const std::string &name, ParameterHandler &prm);

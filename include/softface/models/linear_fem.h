@@ -76,13 +76,6 @@ namespace softface
       unsigned int
       n_factorizations() const;
 
-      /**
-       * The ranks that share the work (default MPI_COMM_WORLD): on more
-       * than one, setup() distributes the system. MPI_COMM_SELF keeps a
-       * serial model in an MPI run.
-       */
-      void
-      set_communicator(const MPI_Comm communicator);
 
     protected:
       void
@@ -109,9 +102,7 @@ namespace softface
       SparseMatrix<double>                 condensed_stiffness;
       std::vector<bool>                    condensed_for;
 
-      MPI_Comm                           communicator;
-      std::string                        partitioner = "cell order";
-      std::unique_ptr<DistributedLayout> layout;
+      const DistributedLayout                             *layout = nullptr;
       std::unique_ptr<DistributedElasticity::LinearSystem> distributed;
 
       void

@@ -6,10 +6,13 @@
 
 #include <array>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace softface
 {
+  class PointExchange;
+
   namespace Models
   {
     /**
@@ -31,10 +34,18 @@ namespace softface
      * bone cannot jump past its free neighbours. At the end, inverted
      * tetrahedra (a spring that flips over inverts the tetrahedra around it)
      * are counted and reported.
+     *
+     * On several MPI ranks (issue 20) each rank moves the points it owns in
+     * a DistributedLayout and exchanges the positions at the ranks' borders
+     * after every sweep (PointExchange); a ghost that moved wakes its
+     * neighbours, and the sweeps end when no rank has a point to move.
      */
     class MassSpring : public Interface
     {
     public:
+      MassSpring();
+      ~MassSpring() override;
+
       static void
       declare_parameters(ParameterHandler &prm);
       void
@@ -90,9 +101,11 @@ namespace softface
       std::vector<Point<3>> last_position;
       Vector<double>        last_prescribed;
 
-      const Scene               *scene = nullptr;
-      std::unique_ptr<PointMesh> mesh;
-      std::vector<Spring>        spring_list;
+      const Scene *scene = nullptr;
+      /// On several MPI ranks: the points this rank moves (issue 20).
+      std::unique_ptr<PointExchange> exchange;
+      std::unique_ptr<PointMesh>     mesh;
+      std::vector<Spring>            spring_list;
       // Per point: its springs run along its neighbours (mesh->row_start,
       // ->neighbour); the spring of each such edge, the sum of the point's
       // spring constants, and the tetrahedra around the point (CSR).

@@ -20,6 +20,8 @@
 
 namespace softface
 {
+  class PointExchange;
+
   namespace Models
   {
     /**
@@ -44,10 +46,20 @@ namespace softface
      * The precision (seed Table 1, Fig. 1) is the distance to the converged
      * answer of the same equations, which the model solves itself: its
      * tensors as one sparse matrix, factorised once per scene.
+     *
+     * On several MPI ranks (issue 20) each rank sweeps the points it owns in
+     * a DistributedLayout and exchanges the values at the ranks' borders
+     * after every sweep (PointExchange): Gauss-Seidel within a rank, Jacobi
+     * between ranks, the same converged answer. Every decision of the stop
+     * criterion is taken on global figures, so every rank stops after the
+     * same sweep; each rank still builds every tensor.
      */
     class MassTensor : public Interface
     {
     public:
+      MassTensor();
+      ~MassTensor() override;
+
       static void
       declare_parameters(ParameterHandler &prm);
       void
@@ -134,6 +146,8 @@ namespace softface
       std::string  precision_history_file;
 
       const Scene *scene = nullptr;
+      /// On several MPI ranks: the points this rank updates (issue 20).
+      std::unique_ptr<PointExchange> exchange;
 
       // Block-CSR on the points' neighbours (mesh->row_start, ->neighbour):
       // K_jk in coupling[...], K_jj and K_jj^-1 per point.
