@@ -4,20 +4,27 @@
 // equal to the serial model to 1e-8 relative; the mass tensor model
 // distributed too: within its stop distance, 0.1 mm, of a serial run); both
 // say they ran on the ranks; rank 0 alone writes (each rank names its own
-// output folder, only rank 0's exists); a patient scene is refused on every
-// rank.
+// output folder, only rank 0's exists), but for the fields: a piece
+// solution.N.vtu per rank and the record solution.pvtu, which softface's
+// mesh reader reads back as the mesh of a serial solution.vtu; a patient
+// scene is refused on every rank.
 
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/error.h>
 #include <softface/core/planning_list.h>
+#include <softface/io/mesh_reader.h>
 #include <softface/models/interface.h>
 #include <softface/models/linear_fem.h>
+#include <softface/simulator/output.h>
 #include <softface/simulator/simulator.h>
 
 #include "scenes.h"
 #include "tests.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -124,6 +131,66 @@ SOFTFACE_TEST(mpi_run_scene)
       for (unsigned int r = 1; r < n_ranks; ++r)
         others += std::filesystem::exists(stem + std::to_string(r) + "_output");
       check_equal("output folders of the other ranks", others, 0);
+
+      // The fields: a piece per rank and their record, which softface's
+      // reader reads back as the mesh of a serial solution.vtu of the same
+      // run (Output::write_vtu(), as a serial run writes it).
+      unsigned int pieces = 0;
+      while (std::filesystem::exists(folder + "/solution." +
+                                     std::to_string(pieces) + ".vtu"))
+        ++pieces;
+      check_equal("solution.N.vtu pieces", pieces, n_ranks);
+      check_equal("solution.vtu written (on several ranks: no)",
+                  std::filesystem::exists(folder + "/solution.vtu"),
+                  false);
+      Output::write_vtu(scene, runs, folder + "/serial.vtu");
+      Triangulation<3> record, serial_file;
+      Mesh::read_file(folder + "/solution.pvtu", record);
+      Mesh::read_file(folder + "/serial.vtu", serial_file);
+      check_equal("cells, solution.pvtu against serial.vtu",
+                  record.n_active_cells(),
+                  serial_file.n_active_cells());
+      // DataOut writes each cell's own copy of its vertices; the reader
+      // merges copies across pieces only. So the distinct positions count.
+      const auto positions = [](const Triangulation<3> &mesh) {
+        std::vector<std::array<double, 3>> list;
+        for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+          if (mesh.get_used_vertices()[v])
+            list.push_back({{mesh.get_vertices()[v][0],
+                             mesh.get_vertices()[v][1],
+                             mesh.get_vertices()[v][2]}});
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        return list;
+      };
+      const auto record_points = positions(record);
+      check_equal("distinct vertex positions, solution.pvtu against serial.vtu",
+                  record_points == positions(serial_file),
+                  true);
+      check_equal("distinct vertex positions, solution.pvtu against the scene",
+                  record_points.size(),
+                  scene.n_vertices());
+      check_equal("cells, solution.pvtu against the scene",
+                  record.n_active_cells(),
+                  scene.triangulation.n_active_cells());
+      // The cells in any order (the reader orders them for locality): their
+      // centres, sorted.
+      const auto centres = [](const Triangulation<3> &mesh) {
+        std::vector<std::array<double, 3>> list;
+        for (const auto &cell : mesh.active_cell_iterators())
+          {
+            const Point<3> c = cell->center();
+            list.push_back({{c[0], c[1], c[2]}});
+          }
+        std::sort(list.begin(), list.end());
+        return list;
+      };
+      const auto a = centres(record), b = centres(serial_file);
+      double     largest = 0.;
+      for (unsigned int i = 0; i < a.size() && i < b.size(); ++i)
+        for (unsigned int d = 0; d < 3; ++d)
+          largest = std::max(largest, std::abs(a[i][d] - b[i][d]));
+      check_below("largest difference of a cell centre (mm)", largest, 1e-12);
     }
 
   // A patient scene writes its stages as it builds: refused on several

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# Strong scaling, one MPI rank against two (issue 20): linear FEM on the generated cube of about
-# 500k and 2M tetrahedra, serial and mpiexec -n 2 interleaved, 3 repetitions, one thread per
-# rank; checks that the answers agree and writes doc/results/scaling.{md,csv,png}.
+# Strong scaling, one MPI rank against two (issue 20): linear FEM, the mass tensor and the mass
+# spring model on the generated cube of about 500k and 2M tetrahedra, serial and mpiexec -n 2
+# interleaved, 3 repetitions, one thread per rank; checks that the answers agree and writes
+# doc/results/scaling.{md,csv,png}, with a model of 64 and 1024 ranks built from the figures.
 #
-#   benchmarks/scaling/run.sh [--quick]   (--quick: 30k tetrahedra once; results in the work dir)
+#   benchmarks/scaling/run.sh [--quick] [--report-only]
+#   (--quick: 30k tetrahedra once, results in the work dir; --report-only: the report again from
+#   the last run's figures in the work dir)
 #
 # Env: SOFTFACE (default build/softface), SCALING_WORK (default /tmp/softface-scaling). Needs
 # mpiexec (Open MPI, as deal.II's package brings it) and Debian's /usr/bin/python3 with
@@ -20,7 +23,13 @@ mpiexec=$(command -v mpiexec || command -v mpirun || true)
 source "$root/scripts/bootstrap.sh"
 softface_ensure_packages python3-numpy python3-matplotlib
 quick=()
-if [ "${1:-}" = "--quick" ]; then quick=(--quick); results=$work/quick-results; fi
+for option in "$@"; do
+  case "$option" in
+    --quick) quick+=(--quick); results=$work/quick-results ;;
+    --report-only) quick+=(--report-only) ;;
+    *) echo "scaling: unknown option '$option' (use --quick, --report-only)"; exit 2 ;;
+  esac
+done
 mkdir -p "$work" "$results"
 /usr/bin/python3 "$here/run.py" "$(realpath "$softface")" "$mpiexec" "$work" "$results" \
   "benchmarks/scaling/run.sh $*" "${quick[@]}"

@@ -67,9 +67,12 @@ namespace softface
               else
                 cell_name = read_vtu(filename, triangulation);
             }
+          else if (extension == "pvtu")
+            cell_name = read_vtu(filename, triangulation);
           else
             throw Error("Mesh file '" + filename + "': unknown format '." +
-                        extension + "' (softface reads .msh, .vtk and .vtu).");
+                        extension +
+                        "' (softface reads .msh, .vtk, .vtu and .pvtu).");
         }
       catch (const Error &)
         {

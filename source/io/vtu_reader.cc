@@ -24,9 +24,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iterator>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -501,6 +503,50 @@ namespace softface
         return values;
       }
 
+      // The .vtu files of a parallel record (.pvtu, as write_pvtu_record()
+      // and ParaView write it): its Pieces' Sources, relative to its folder.
+      std::vector<std::string>
+      record_sources(const std::string &filename)
+      {
+        std::ifstream in(filename);
+        if (!in)
+          throw Error("it cannot be opened");
+        std::string xml((std::istreambuf_iterator<char>(in)),
+                        std::istreambuf_iterator<char>());
+        check_nesting(xml);
+        ptree tree;
+        try
+          {
+            std::istringstream stream(xml);
+            boost::property_tree::read_xml(
+              stream, tree, boost::property_tree::xml_parser::no_comments);
+          }
+        catch (const boost::property_tree::xml_parser_error &e)
+          {
+            throw Error("malformed XML at line " + std::to_string(e.line()) +
+                        ": " + e.message());
+          }
+        const auto file = tree.get_child_optional("VTKFile");
+        if (!file || attribute(*file, "type") != "PUnstructuredGrid")
+          throw Error("it is not a VTK PUnstructuredGrid file");
+        const std::filesystem::path folder =
+          std::filesystem::path(filename).parent_path();
+        std::vector<std::string> sources;
+        if (const auto grid = file->get_child_optional("PUnstructuredGrid"))
+          for (const auto &child : *grid)
+            if (child.first == "Piece")
+              {
+                const std::string source = attribute(child.second, "Source");
+                if (source.empty())
+                  throw Error("its Piece " + std::to_string(sources.size()) +
+                              " has no Source");
+                sources.push_back((folder / source).string());
+              }
+        if (sources.empty())
+          throw Error("it names no Piece");
+        return sources;
+      }
+
       Piece
       read_piece(const VtuFile &file, const ptree &piece)
       {
@@ -677,11 +723,31 @@ namespace softface
       MeshData data;
       try
         {
-          const VtuFile              file(filename);
-          std::vector<const ptree *> pieces;
-          for (const auto &child : file.grid())
-            if (child.first == "Piece")
-              pieces.push_back(&child.second);
+          // A parallel record's pieces are in files of their own.
+          const bool record =
+            filename.size() > 5 &&
+            filename.compare(filename.size() - 5, 5, ".pvtu") == 0;
+          const std::vector<std::string> sources =
+            record ? record_sources(filename) :
+                     std::vector<std::string>{filename};
+          std::vector<std::unique_ptr<VtuFile>>                  files;
+          std::vector<std::pair<const VtuFile *, const ptree *>> pieces;
+          for (const std::string &source : sources)
+            {
+              try
+                {
+                  files.push_back(std::make_unique<VtuFile>(source));
+                }
+              catch (const Error &e)
+                {
+                  if (!record)
+                    throw;
+                  throw Error("its piece '" + source + "': " + e.what());
+                }
+              for (const auto &child : files.back()->grid())
+                if (child.first == "Piece")
+                  pieces.emplace_back(files.back().get(), &child.second);
+            }
           if (pieces.empty())
             throw Error("it has no Piece");
 
@@ -696,7 +762,7 @@ namespace softface
               Piece piece;
               try
                 {
-                  piece = read_piece(file, *pieces[p]);
+                  piece = read_piece(*pieces[p].first, *pieces[p].second);
                   // All pieces must name their ids alike (empty ones aside),
                   // or some cells would silently get id 0.
                   const auto described = [](const std::string &name) {

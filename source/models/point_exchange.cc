@@ -49,6 +49,16 @@ namespace softface
           }
         ghost_local[slot[point]][serial % 3] = partitioner.global_to_local(dof);
       }
+    // Only the owned values another rank reads travel: the partitioner's
+    // import indices (local, the owned DoFs in order).
+    std::vector<bool> exported(owned_dofs.size(), false);
+    for (const auto &range : partitioner.import_indices())
+      for (unsigned int l = range.first; l < range.second; ++l)
+        exported[l] = true;
+    for (const auto &entry : owned_dofs)
+      if (exported[entry[0]])
+        exported_dofs.push_back(entry);
+
     AssertThrow(row_start.size() == n_points + 1,
                 ExcMessage("The point mesh does not match the layout."));
 
@@ -122,7 +132,7 @@ namespace softface
                           const double               moved_threshold,
                           std::vector<unsigned int> &moved) const
   {
-    for (const auto &[local, serial] : owned_dofs)
+    for (const auto &[local, serial] : exported_dofs)
       buffer.local_element(local) = values[serial];
     buffer.update_ghost_values();
     const double threshold_squared = moved_threshold * moved_threshold;

@@ -1,5 +1,6 @@
-// The fields a run writes (simulator): solution.vtu with every model's
-// displacement and the scene's labels for ParaView, and per-vertex CSVs.
+// The fields a run writes (simulator): solution.vtu (or, on several MPI
+// ranks, solution.pvtu and a piece per rank) with every model's displacement
+// and the scene's labels for ParaView, and per-vertex CSVs.
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -12,6 +13,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 
@@ -34,54 +37,150 @@ namespace softface
       return name;
     }
 
+    namespace
+    {
+      /**
+       * The fields of write_vtu() in @p data_out, on the cells of
+       * [first_cell, end_cell) of the scene's order. @p scalar_dofs holds the
+       * per-vertex flags' layout and must outlive @p data_out's patches.
+       */
+      void
+      build_fields(const Scene                         &scene,
+                   const std::vector<Report::ModelRun> &runs,
+                   DoFHandler<3>                       &scalar_dofs,
+                   Vector<double>                      &join_flag,
+                   Vector<double>                      &segment_id,
+                   Vector<float>                       &material,
+                   const unsigned int                   first_cell,
+                   const unsigned int                   end_cell,
+                   DataOut<3>                          &data_out)
+      {
+        // Per-vertex flags live on a scalar P1 layout beside the vector one.
+        scalar_dofs.reinit(scene.triangulation);
+        scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
+        join_flag.reinit(scalar_dofs.n_dofs());
+        segment_id.reinit(scalar_dofs.n_dofs());
+        for (const auto &cell : scalar_dofs.active_cell_iterators())
+          for (const unsigned int v : cell->vertex_indices())
+            {
+              const unsigned int s =
+                scene.vertex_segment()[cell->vertex_index(v)];
+              const auto dof  = cell->vertex_dof_index(v, 0);
+              join_flag[dof]  = (s == numbers::invalid_unsigned_int) ? 0. : 1.;
+              segment_id[dof] = (s == numbers::invalid_unsigned_int) ? -1. : s;
+            }
+
+        using Cell          = typename Triangulation<3>::cell_iterator;
+        const auto in_range = [first_cell, end_cell](const Cell &cell) {
+          return cell->is_active() && cell->active_cell_index() >= first_cell &&
+                 cell->active_cell_index() < end_cell;
+        };
+        const auto next_in_range = [in_range](const Triangulation<3> &tria,
+                                              const Cell             &cell) {
+          Cell next = cell;
+          for (++next; next != tria.end() && !in_range(next); ++next)
+            ;
+          return next;
+        };
+        data_out.set_cell_selection(
+          [in_range, next_in_range](const Triangulation<3> &tria) {
+            const Cell first = tria.begin();
+            return in_range(first) ? first : next_in_range(tria, first);
+          },
+          next_in_range);
+        data_out.attach_triangulation(scene.triangulation);
+        const std::vector<
+          DataComponentInterpretation::DataComponentInterpretation>
+          vector(3, DataComponentInterpretation::component_is_part_of_vector);
+        for (const Report::ModelRun &run : runs)
+          if (!run.failed)
+            data_out.add_data_vector(scene.dof_handler,
+                                     run.displacement,
+                                     std::vector<std::string>(3,
+                                                              "displacement_" +
+                                                                file_name_of(
+                                                                  run.label())),
+                                     vector);
+        data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
+        data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
+        material.reinit(scene.triangulation.n_active_cells());
+        for (const auto &cell : scene.triangulation.active_cell_iterators())
+          material[cell->active_cell_index()] = cell->material_id();
+        data_out.add_data_vector(material, "material_id");
+        data_out.build_patches(scene.mapping);
+        // zlib at its strongest spends seconds on large meshes for little
+        // gain.
+        DataOutBase::VtkFlags flags;
+        flags.compression_level = DataOutBase::VtkFlags::best_speed;
+        data_out.set_flags(flags);
+      }
+    } // namespace
+
     void
     write_vtu(const Scene                         &scene,
               const std::vector<Report::ModelRun> &runs,
               const std::string                   &filename)
     {
-      // Per-vertex flags live on a scalar P1 layout beside the vector one.
-      DoFHandler<3> scalar_dofs(scene.triangulation);
-      scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
-      Vector<double> join_flag(scalar_dofs.n_dofs());
-      Vector<double> segment_id(scalar_dofs.n_dofs());
-      for (const auto &cell : scalar_dofs.active_cell_iterators())
-        for (const unsigned int v : cell->vertex_indices())
-          {
-            const unsigned int s =
-              scene.vertex_segment()[cell->vertex_index(v)];
-            const auto dof  = cell->vertex_dof_index(v, 0);
-            join_flag[dof]  = (s == numbers::invalid_unsigned_int) ? 0. : 1.;
-            segment_id[dof] = (s == numbers::invalid_unsigned_int) ? -1. : s;
-          }
-
-      DataOut<3> data_out;
-      data_out.attach_triangulation(scene.triangulation);
-      const std::vector<
-        DataComponentInterpretation::DataComponentInterpretation>
-        vector(3, DataComponentInterpretation::component_is_part_of_vector);
-      for (const Report::ModelRun &run : runs)
-        if (!run.failed)
-          data_out.add_data_vector(scene.dof_handler,
-                                   run.displacement,
-                                   std::vector<std::string>(3,
-                                                            "displacement_" +
-                                                              file_name_of(
-                                                                run.label())),
-                                   vector);
-      data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
-      data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
-      Vector<float> material(scene.triangulation.n_active_cells());
-      for (const auto &cell : scene.triangulation.active_cell_iterators())
-        material[cell->active_cell_index()] = cell->material_id();
-      data_out.add_data_vector(material, "material_id");
-      data_out.build_patches(scene.mapping);
-      // zlib at its strongest spends seconds on large meshes for little gain.
-      DataOutBase::VtkFlags flags;
-      flags.compression_level = DataOutBase::VtkFlags::best_speed;
-      data_out.set_flags(flags);
-
+      DoFHandler<3>  scalar_dofs;
+      Vector<double> join_flag, segment_id;
+      Vector<float>  material;
+      DataOut<3>     data_out;
+      build_fields(scene,
+                   runs,
+                   scalar_dofs,
+                   join_flag,
+                   segment_id,
+                   material,
+                   0,
+                   scene.triangulation.n_active_cells(),
+                   data_out);
       std::ofstream out = open_output_file(filename);
       data_out.write_vtu(out);
+    }
+
+    void
+    write_pvtu(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const std::string                   &stem,
+               const MPI_Comm                       communicator)
+    {
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      const unsigned int  rank = Utilities::MPI::this_mpi_process(communicator);
+      const std::uint64_t n_cells = scene.triangulation.n_active_cells();
+      // The cells c with c * n_ranks / n_cells == rank, as the 'cell order'
+      // partition gives them.
+      const auto first_of = [&](const unsigned int r) {
+        return static_cast<unsigned int>(
+          (std::uint64_t(r) * n_cells + n_ranks - 1) / n_ranks);
+      };
+      DoFHandler<3>  scalar_dofs;
+      Vector<double> join_flag, segment_id;
+      Vector<float>  material;
+      DataOut<3>     data_out;
+      build_fields(scene,
+                   runs,
+                   scalar_dofs,
+                   join_flag,
+                   segment_id,
+                   material,
+                   first_of(rank),
+                   first_of(rank + 1),
+                   data_out);
+      const std::string name = std::filesystem::path(stem).filename().string();
+      {
+        std::ofstream out =
+          open_output_file(stem + "." + std::to_string(rank) + ".vtu");
+        data_out.write_vtu(out);
+      }
+      if (rank == 0)
+        {
+          std::vector<std::string> pieces;
+          for (unsigned int r = 0; r < n_ranks; ++r)
+            pieces.push_back(name + "." + std::to_string(r) + ".vtu");
+          std::ofstream out = open_output_file(stem + ".pvtu");
+          data_out.write_pvtu_record(out, pieces);
+        }
     }
 
     void

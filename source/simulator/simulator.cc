@@ -819,7 +819,7 @@ namespace softface
         Report::write_statistics(scene,
                                  model_runs,
                                  output.directory + "/statistics");
-        if (output.write_vtu)
+        if (output.write_vtu && n_ranks == 1)
           Output::write_vtu(scene,
                             model_runs,
                             output.directory + "/solution.vtu");
@@ -833,12 +833,25 @@ namespace softface
                   Output::file_name_of(run.label()) + ".csv");
       }
 
+    // On several ranks each writes its piece of the fields, in rank 0's
+    // folder (the only one made).
+    if (output.write_vtu && n_ranks > 1)
+      Output::write_pvtu(scene,
+                         model_runs,
+                         Utilities::MPI::broadcast(MPI_COMM_WORLD,
+                                                   output.directory,
+                                                   0) +
+                           "/solution",
+                         MPI_COMM_WORLD);
+
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
     const double peak_mb =
       Utilities::MPI::max(memory.VmHWM / 1024., MPI_COMM_WORLD);
     out << "\nOutputs in " << output.directory << "/ (summary.csv, statistics"
-        << (output.write_vtu ? ", solution.vtu" : "")
+        << (!output.write_vtu ? "" :
+            n_ranks > 1       ? ", solution.pvtu with a piece per rank" :
+                                ", solution.vtu")
         << (output.write_nodal_displacements ? ", displacements_*.csv" : "")
         << (evaluation ? ", evaluation_*.csv" : "")
         << (skin ? ", skin.csv, skin_*.ply/.vtp" : "")

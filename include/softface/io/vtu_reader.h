@@ -25,6 +25,9 @@ namespace softface
      * anything else is an error. The first cell data array named MaterialID,
      * material_id, gmsh:physical or CellEntityIds gives the material ids of
      * tetrahedra and the boundary ids of triangles (whole numbers 0 to 255).
+     * A parallel record (.pvtu, as deal.II's write_pvtu_record() and
+     * ParaView write it) is read as the pieces of the .vtu files its Pieces
+     * name, relative to its folder.
      * Whatever cannot be read completely throws one softface::Error,
      * "Cannot read mesh file '<filename>': <reason>."
      */

@@ -101,6 +101,8 @@ namespace softface
     std::vector<char> owned;
     /// Owned DoFs: the buffer's local index and the serial DoF.
     std::vector<std::array<unsigned int, 2>> owned_dofs;
+    /// Those that other ranks read (the ones exchange() sends).
+    std::vector<std::array<unsigned int, 2>> exported_dofs;
     /// Ghost points, and the buffer's local index of each component.
     std::vector<unsigned int>                          ghost_points;
     std::vector<std::array<unsigned int, 3>>           ghost_local;

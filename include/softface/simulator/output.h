@@ -1,6 +1,7 @@
 #ifndef softface_simulator_output_h
 #define softface_simulator_output_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/scene.h>
@@ -31,6 +32,19 @@ namespace softface
     write_vtu(const Scene                         &scene,
               const std::vector<Report::ModelRun> &runs,
               const std::string                   &filename);
+
+    /**
+     * The same fields on the ranks of @p communicator (issue 20): each rank
+     * writes the piece <stem>.<rank>.vtu of its cells (contiguous ranges of
+     * the scene's cell order, the 'cell order' partition) and rank 0 the
+     * record <stem>.pvtu that ParaView opens as one mesh. Collective; the
+     * folder of @p stem must exist on every rank.
+     */
+    void
+    write_pvtu(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const std::string                   &stem,
+               const MPI_Comm                       communicator);
 
     /// Columns x,y,z,ux,uy,uz: one row per vertex, reference coordinates.
     void
