@@ -33,16 +33,32 @@ using namespace softface_tests;
 
 namespace
 {
+  using Partitioner = DistributedLayout::Partitioner;
+
+  /// The model's answer on @p communicator; on several ranks it must say
+  /// that it shared the work (its "MPI ranks" figure).
   Vector<double>
   solve(Models::Interface    &model,
         const MPI_Comm        communicator,
         const Scene          &scene,
-        const Vector<double> &prescribed)
+        const Vector<double> &prescribed,
+        const Partitioner     partitioner = Partitioner::cell_order)
   {
     model.set_communicator(communicator);
+    model.set_shared_layout(
+      std::make_shared<SharedDistributedLayout>(communicator, partitioner));
     model.setup(scene);
     Vector<double> u;
     model.solve(prescribed, u);
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    if (n_ranks > 1)
+      {
+        bool shared = false;
+        for (const auto &detail : model.statistics().details)
+          shared |= detail.name == "MPI ranks" && detail.value == n_ranks;
+        if (!shared)
+          throw std::runtime_error("the model did not run on the ranks");
+      }
     return u;
   }
 
@@ -60,7 +76,8 @@ namespace
                       const Scene          &scene,
                       const Vector<double> &prescribed,
                       const bool            converge_fully,
-                      const bool            active_set = true)
+                      const bool            active_set = true,
+                      const Partitioner partitioner = Partitioner::cell_order)
   {
     const Vector<double> exact = linear_fem(scene, prescribed);
     Vector<double>       answer[2];
@@ -72,7 +89,8 @@ namespace
         answer[on_ranks] = solve(model,
                                  on_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF,
                                  scene,
-                                 prescribed);
+                                 prescribed,
+                                 partitioner);
         sweeps[on_ranks] = model.statistics().iterations;
       }
     deallog << name << (converge_fully ? ", converged" : ", default stop")
@@ -142,6 +160,31 @@ SOFTFACE_TEST(distributed_point_models)
   compare_mass_tensor("cube, turned", cube, turned, false);
   compare_mass_tensor(
     "cube, turned, no active set", cube, turned, false, false);
+  // METIS pieces: on 3 ranks each may border the two others, so that the
+  // ranks' borders take three colours (cell-order slabs take two).
+  compare_mass_tensor(
+    "cube, turned, metis", cube, turned, true, true, Partitioner::metis);
+  {
+    const DistributedLayout layout(cube, MPI_COMM_WORLD, Partitioner::metis);
+    const Models::PointMesh mesh(cube, "test");
+    const PointExchange     points(layout,
+                               mesh.row_start,
+                               mesh.neighbour,
+                               mesh.is_free);
+    print("cube, metis: colours of the ranks' borders", points.n_colours());
+  }
+  // Jacobi order (damped) on the ranks.
+  {
+    const Vector<double> exact = linear_fem(cube, turned);
+    Models::MassTensor   model;
+    model.set_scheme(false, 1e-4, 10, true);
+    model.set_relaxation(0.6);
+    const Vector<double> u = solve(model, MPI_COMM_WORLD, cube, turned);
+    deallog << "cube, turned, jacobi order, damped:" << std::endl;
+    check_below("  ranks: largest distance to linear fem (mm)",
+                Displacement::free_vertex_difference(cube, u, exact).max,
+                0.1);
+  }
 
   // Held on one face only, the bone moved: with the cube's cells in slabs,
   // a rank owns no join point, and the held face is one rank's.
@@ -162,7 +205,10 @@ SOFTFACE_TEST(distributed_point_models)
   {
     const DistributedLayout layout(one_face, MPI_COMM_WORLD);
     const Models::PointMesh mesh(one_face, "test");
-    const PointExchange     points(layout, mesh.row_start, mesh.neighbour);
+    const PointExchange     points(layout,
+                               mesh.row_start,
+                               mesh.neighbour,
+                               mesh.is_free);
     bool                    owns_join = false, owns_fixed = false;
     for (unsigned int v = 0; v < one_face.n_vertices(); ++v)
       {

@@ -239,6 +239,9 @@ def model_rows(big):
     g_cg, g_mtm = growth("linear fem"), growth("mass tensor")
     ghosts2 = big["ghosts"]  # ghost points of a rank on 2 ranks (one neighbour)
     points2 = big["owned"]
+    if not ghosts2 or not points2:
+        sys.exit("scaling: the mass tensor model did not report its points and ghosts per rank "
+                 "(did it run on the ranks?)")
     # The two ranks share one face of the mesh: ghost layers per face-point.
     layers = ghosts2 / (2 * points2) ** (2 / 3)
     # Memory: the scene on every rank (S) and the distributed rest (D), from 1 and 2 ranks.

@@ -50,12 +50,12 @@ namespace softface
   const DistributedLayout &
   SharedDistributedLayout::get(const Scene &scene)
   {
-    if (!layout || &layout->scene != &scene)
-      {
-        layout.reset();
-        layout =
-          std::make_unique<DistributedLayout>(scene, communicator, partitioner);
-      }
+    // One layout per run: the models keep references to it.
+    AssertThrow(!layout || &layout->scene == &scene,
+                ExcMessage("A shared layout serves one scene."));
+    if (!layout)
+      layout =
+        std::make_unique<DistributedLayout>(scene, communicator, partitioner);
     return *layout;
   }
 

@@ -732,6 +732,7 @@ namespace softface
                      std::vector<std::string>{filename};
           std::vector<std::unique_ptr<VtuFile>>                  files;
           std::vector<std::pair<const VtuFile *, const ptree *>> pieces;
+          std::vector<std::string> piece_source; // a record's piece files
           for (const std::string &source : sources)
             {
               try
@@ -746,7 +747,10 @@ namespace softface
                 }
               for (const auto &child : files.back()->grid())
                 if (child.first == "Piece")
-                  pieces.emplace_back(files.back().get(), &child.second);
+                  {
+                    pieces.emplace_back(files.back().get(), &child.second);
+                    piece_source.push_back(record ? source : "");
+                  }
             }
           if (pieces.empty())
             throw Error("it has no Piece");
@@ -782,6 +786,9 @@ namespace softface
                 }
               catch (const Error &e)
                 {
+                  if (!piece_source[p].empty())
+                    throw Error("its piece '" + piece_source[p] +
+                                "': " + e.what());
                   if (pieces.size() == 1)
                     throw;
                   throw Error("piece " + std::to_string(p) + ": " + e.what());

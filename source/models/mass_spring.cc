@@ -181,7 +181,8 @@ namespace softface
           const DistributedLayout &layout    = distributed_layout(*scene);
           exchange = std::make_unique<PointExchange>(layout,
                                                      mesh->row_start,
-                                                     mesh->neighbour);
+                                                     mesh->neighbour,
+                                                     mesh->is_free);
           add_detail("MPI ranks", n_ranks);
         }
       else if (n_ranks > 1)

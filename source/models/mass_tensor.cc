@@ -332,7 +332,8 @@ namespace softface
           const DistributedLayout &layout    = distributed_layout(*scene);
           exchange = std::make_unique<PointExchange>(layout,
                                                      mesh->row_start,
-                                                     mesh->neighbour);
+                                                     mesh->neighbour,
+                                                     mesh->is_free);
           add_detail("MPI ranks", n_ranks);
         }
       else if (n_ranks > 1)
@@ -611,17 +612,23 @@ namespace softface
       else if (report_precision || !precision_history_file.empty())
         solve_converged(prescribed, converged);
       std::ofstream history;
-      // On several MPI ranks each runs this model whole: rank 0 writes.
-      if (!precision_history_file.empty() &&
-          Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+      // On several MPI ranks rank 0 writes, and the ranks that share the
+      // sweeps all learn whether it could (each throws, or none).
+      if (!precision_history_file.empty())
         {
-          history.open(precision_history_file);
-          if (!history)
+          if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
+            history.open(precision_history_file);
+          bool opened = history.is_open() ||
+                        Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0;
+          if (exchange)
+            opened = Utilities::MPI::min(int(opened), communicator) == 1;
+          if (!opened)
             throw Error("mass tensor: cannot write 'Precision history file' '" +
                         precision_history_file + "'.");
-          history << "sweep,precision_max,precision_mean,max_gradient,"
-                     "active_points\n"
-                  << std::setprecision(6);
+          if (history.is_open())
+            history << "sweep,precision_max,precision_mean,max_gradient,"
+                       "active_points\n"
+                    << std::setprecision(6);
         }
       // Collective on several ranks.
       const auto record_history = [&](const unsigned int sweep_number,
@@ -846,20 +853,6 @@ namespace softface
                   exchange_borders();
                 }
             }
-          if (exchange)
-            largest_divergence = global_max(largest_divergence);
-          if (largest_divergence > 0.)
-            {
-              std::ostringstream m;
-              m << std::setprecision(3) << "mass tensor ("
-                << (gauss_seidel ? "gauss-seidel" : "jacobi")
-                << "): the local updates diverge (a point moved by "
-                << largest_divergence << " mm in sweep " << sweep
-                << "). Jacobi order does not converge for every mesh and "
-                   "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
-                   "'Relaxation factor' below 1.";
-              throw Error(m.str());
-            }
           if (!gauss_seidel)
             {
               for (unsigned int q = 0; q < current.size(); ++q)
@@ -874,14 +867,33 @@ namespace softface
           if (exchange)
             {
               // One reduction for every global decision of this sweep.
-              std::array<double, 3> local = {
-                {largest_change, double(!all_stopped), double(!none_next)}};
+              std::array<double, 4> local = {{largest_change,
+                                              double(!all_stopped),
+                                              double(!none_next),
+                                              largest_divergence}};
               Utilities::MPI::max(ArrayView<const double>(local),
                                   communicator,
                                   ArrayView<double>(local));
-              largest_change = local[0];
-              all_stopped    = local[1] == 0.;
-              none_next      = local[2] == 0.;
+              largest_change     = local[0];
+              all_stopped        = local[1] == 0.;
+              none_next          = local[2] == 0.;
+              largest_divergence = local[3];
+            }
+          if (largest_divergence > 0.)
+            {
+              std::ostringstream m;
+              m << std::setprecision(3) << "mass tensor ("
+                << (gauss_seidel ? "gauss-seidel" : "jacobi")
+                << "): the local updates diverge (";
+              if (std::isinf(largest_divergence))
+                m << "an update became infinite or NaN";
+              else
+                m << "a point moved by " << largest_divergence << " mm";
+              m << " in sweep " << sweep
+                << "). Jacobi order does not converge for every mesh and "
+                   "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
+                   "'Relaxation factor' below 1.";
+              throw Error(m.str());
             }
 
           if (history.is_open() ||

@@ -14,7 +14,8 @@ namespace softface
 {
   PointExchange::PointExchange(const DistributedLayout         &layout,
                                const std::vector<unsigned int> &row_start,
-                               const std::vector<unsigned int> &neighbour)
+                               const std::vector<unsigned int> &neighbour,
+                               const std::vector<bool>         &is_free)
       : communicator(layout.communicator)
       , n_points(layout.scene.dof_handler.n_dofs() / 3)
   {
@@ -59,18 +60,23 @@ namespace softface
       if (exported[entry[0]])
         exported_dofs.push_back(entry);
 
-    AssertThrow(row_start.size() == n_points + 1,
+    AssertThrow(row_start.size() == n_points + 1 && is_free.size() == n_points,
                 ExcMessage("The point mesh does not match the layout."));
 
-    // Border points: owned, with a neighbour that is not.
+    // Border points: owned, with a free neighbour that is not. Every
+    // neighbour of an owned point must be here, owned or a ghost (the owner
+    // of a vertex owns a cell around it), or a sweep would read stale values.
     for (unsigned int j = 0; j < n_points; ++j)
       if (owned[j])
         for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-          if (!owned[neighbour[i]])
-            {
+          {
+            const unsigned int k = neighbour[i];
+            AssertThrow(owned[k] || slot[k] != numbers::invalid_unsigned_int,
+                        ExcMessage("A neighbour of point " + std::to_string(j) +
+                                   " is neither owned nor a ghost here."));
+            if (!owned[k] && is_free[k])
               owned[j] = 2;
-              break;
-            }
+          }
 
     // The ranks whose points border this rank's, on every rank; colours
     // given greedily in rank order, the same on every rank.

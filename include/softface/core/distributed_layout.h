@@ -118,8 +118,8 @@ namespace softface
     SharedDistributedLayout(const MPI_Comm                       communicator,
                             const DistributedLayout::Partitioner partitioner);
 
-    /// The layout of @p scene (built by the first call for this scene:
-    /// collective then).
+    /// The layout of @p scene, built by the first call (collective then);
+    /// later calls must name the same scene.
     const DistributedLayout &
     get(const Scene &scene);
 

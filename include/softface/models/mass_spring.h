@@ -36,9 +36,10 @@ namespace softface
      * are counted and reported.
      *
      * On several MPI ranks (issue 20) each rank moves the points it owns in
-     * a DistributedLayout and exchanges the positions at the ranks' borders
-     * after every sweep (PointExchange); a ghost that moved wakes its
-     * neighbours, and the sweeps end when no rank has a point to move.
+     * a DistributedLayout (PointExchange): its interior points, then the
+     * ranks' border points colour by colour of the ranks with a ghost
+     * exchange after each colour; a ghost that moved wakes its neighbours,
+     * and the sweeps end when no rank has a point to move.
      */
     class MassSpring : public Interface
     {

@@ -48,11 +48,13 @@ namespace softface
      * tensors as one sparse matrix, factorised once per scene.
      *
      * On several MPI ranks (issue 20) each rank sweeps the points it owns in
-     * a DistributedLayout and exchanges the values at the ranks' borders
-     * after every sweep (PointExchange): Gauss-Seidel within a rank, Jacobi
-     * between ranks, the same converged answer. Every decision of the stop
-     * criterion is taken on global figures, so every rank stops after the
-     * same sweep; each rank still builds every tensor.
+     * a DistributedLayout (PointExchange): a sweep updates every rank's
+     * interior points at once, then the points on the ranks' borders colour
+     * by colour of the ranks, with a ghost exchange after each colour, so
+     * that it stays one Gauss-Seidel sweep over all points and converges to
+     * the same answer. Every decision of the stop criterion is taken on
+     * global figures, so every rank stops after the same sweep; each rank
+     * still builds every tensor.
      */
     class MassTensor : public Interface
     {

@@ -40,11 +40,14 @@ namespace softface
   public:
     /**
      * The layout's owned DoFs decide who owns each point; @p row_start and
-     * @p neighbour are the point mesh's adjacency (PointMesh). Collective.
+     * @p neighbour are the point mesh's adjacency and @p is_free its free
+     * points (PointMesh): a point is on the border if a free neighbour is
+     * another rank's (join points never move). Collective.
      */
     PointExchange(const DistributedLayout         &layout,
                   const std::vector<unsigned int> &row_start,
-                  const std::vector<unsigned int> &neighbour);
+                  const std::vector<unsigned int> &neighbour,
+                  const std::vector<bool>         &is_free);
 
     const MPI_Comm communicator;
 
@@ -55,8 +58,8 @@ namespace softface
       return owned[point] != 0;
     }
 
-    /// This rank's owned points with a neighbour on another rank, in the
-    /// same order as @p points (ascending).
+    /// @p points (ascending, owned) split into those without and with a
+    /// free neighbour on another rank, in the same order.
     void
     split(const std::vector<unsigned int> &points,
           std::vector<unsigned int>       &interior,
