@@ -116,11 +116,31 @@ namespace softface
       }
     } // namespace
 
+    namespace
+    {
+      /// The fields of an earlier run on another number of ranks, which
+      /// ParaView would otherwise open beside this run's: for a run on
+      /// @p n_ranks ranks (1: serial) <stem>.vtu, or <stem>.pvtu, or the
+      /// pieces <stem>.<r>.vtu from rank n_ranks on.
+      void
+      remove_stale_fields(const std::string &stem, const unsigned int n_ranks)
+      {
+        std::filesystem::remove(stem + (n_ranks > 1 ? ".vtu" : ".pvtu"));
+        for (unsigned int r = n_ranks > 1 ? n_ranks : 0;
+             std::filesystem::remove(stem + "." + std::to_string(r) + ".vtu");
+             ++r)
+          ;
+      }
+    } // namespace
+
     void
     write_vtu(const Scene                         &scene,
               const std::vector<Report::ModelRun> &runs,
               const std::string                   &filename)
     {
+      if (filename.size() > 4 &&
+          filename.compare(filename.size() - 4, 4, ".vtu") == 0)
+        remove_stale_fields(filename.substr(0, filename.size() - 4), 1);
       DoFHandler<3>  scalar_dofs;
       Vector<double> join_flag, segment_id;
       Vector<float>  material;
@@ -175,6 +195,7 @@ namespace softface
       }
       if (rank == 0)
         {
+          remove_stale_fields(stem, n_ranks);
           std::vector<std::string> pieces;
           for (unsigned int r = 0; r < n_ranks; ++r)
             pieces.push_back(name + "." + std::to_string(r) + ".vtu");

@@ -26,7 +26,9 @@ namespace softface
     /**
      * One VTU with every successful model's displacement
      * ("displacement_<model>"), the join/free flag (1 = join) and the segment
-     * id (-1 = free) per vertex, and the material id per cell.
+     * id (-1 = free) per vertex, and the material id per cell. A .pvtu of
+     * the same stem and its pieces, left by a run on several ranks, are
+     * removed.
      */
     void
     write_vtu(const Scene                         &scene,
@@ -37,8 +39,9 @@ namespace softface
      * The same fields on the ranks of @p communicator (issue 20): each rank
      * writes the piece <stem>.<rank>.vtu of its cells (contiguous ranges of
      * the scene's cell order, the 'cell order' partition) and rank 0 the
-     * record <stem>.pvtu that ParaView opens as one mesh. Collective; the
-     * folder of @p stem must exist on every rank.
+     * record <stem>.pvtu that ParaView opens as one mesh (and removes a
+     * <stem>.vtu left by a serial run). Collective; the folder of @p stem
+     * must exist on every rank.
      */
     void
     write_pvtu(const Scene                         &scene,
