@@ -75,19 +75,7 @@ SOFTFACE_TEST(distributed_linear_fem)
   // Held on one face only (the others free) and the bone moved: with the
   // cube's cells in slabs, some ranks own no join point at all.
   Scene one_face;
-  {
-    Mesh::CubeParameters parameters;
-    parameters.target_n_tetrahedra = 8000;
-    Mesh::generate_cube(parameters, one_face.triangulation);
-    for (const auto &cell : one_face.triangulation.active_cell_iterators())
-      for (const auto &face : cell->face_iterators())
-        if (face->at_boundary() && face->center()[2] > 1e-6)
-          face->set_boundary_id(Mesh::cube_outer_face + 1);
-    one_face.mesh_description = "cube held at z = 0";
-    one_face.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                                 {"bone", {Mesh::cube_inner_id}, {}, {}}};
-    one_face.setup();
-  }
+  make_cube_held_at_bottom(one_face, 8000);
   {
     const DistributedLayout layout(one_face, MPI_COMM_WORLD);
     unsigned int            owned_joins = 0;

@@ -167,10 +167,7 @@ SOFTFACE_TEST(distributed_point_models)
   {
     const DistributedLayout layout(cube, MPI_COMM_WORLD, Partitioner::metis);
     const Models::PointMesh mesh(cube, "test");
-    const PointExchange     points(layout,
-                               mesh.row_start,
-                               mesh.neighbour,
-                               mesh.is_free);
+    const PointExchange     points(layout, mesh);
     print("cube, metis: colours of the ranks' borders", points.n_colours());
   }
   // Jacobi order (damped) on the ranks.
@@ -189,26 +186,11 @@ SOFTFACE_TEST(distributed_point_models)
   // Held on one face only, the bone moved: with the cube's cells in slabs,
   // a rank owns no join point, and the held face is one rank's.
   Scene one_face;
-  {
-    Mesh::CubeParameters parameters;
-    parameters.target_n_tetrahedra = 8000;
-    Mesh::generate_cube(parameters, one_face.triangulation);
-    for (const auto &cell : one_face.triangulation.active_cell_iterators())
-      for (const auto &face : cell->face_iterators())
-        if (face->at_boundary() && face->center()[2] > 1e-6)
-          face->set_boundary_id(Mesh::cube_outer_face + 1);
-    one_face.mesh_description = "cube held at z = 0";
-    one_face.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                                 {"bone", {Mesh::cube_inner_id}, {}, {}}};
-    one_face.setup();
-  }
+  make_cube_held_at_bottom(one_face, 8000);
   {
     const DistributedLayout layout(one_face, MPI_COMM_WORLD);
     const Models::PointMesh mesh(one_face, "test");
-    const PointExchange     points(layout,
-                               mesh.row_start,
-                               mesh.neighbour,
-                               mesh.is_free);
+    const PointExchange     points(layout, mesh);
     bool                    owns_join = false, owns_fixed = false;
     for (unsigned int v = 0; v < one_face.n_vertices(); ++v)
       {

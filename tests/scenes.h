@@ -67,6 +67,25 @@ namespace softface_tests
     scene.setup();
   }
 
+  /// The seed's cube held on its face z = 0 only (segment 0, "fixed"; the
+  /// other outer faces free), the inner cube segment 1 ("bone"). With the
+  /// cells in slabs of z, a rank of a partition may own no join point.
+  inline void
+  make_cube_held_at_bottom(Scene &scene, const unsigned int target_n_tetrahedra)
+  {
+    Mesh::CubeParameters parameters;
+    parameters.target_n_tetrahedra = target_n_tetrahedra;
+    Mesh::generate_cube(parameters, scene.triangulation);
+    for (const auto &cell : scene.triangulation.active_cell_iterators())
+      for (const auto &face : cell->face_iterators())
+        if (face->at_boundary() && face->center()[2] > 1e-6)
+          face->set_boundary_id(Mesh::cube_outer_face + 1);
+    scene.mesh_description = "cube held at z = 0";
+    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                              {"bone", {Mesh::cube_inner_id}, {}, {}}};
+    scene.setup();
+  }
+
   /// The seed's planning: the inner cube moves by @p translation, rotated by
   /// @p angle degrees about z through the cube's centre.
   inline Vector<double>

@@ -128,6 +128,26 @@ namespace softface
           }
       }
 
+      // @p xml (emptied, to free its memory before the tree grows) into
+      // @p tree; a parse error names its line.
+      void
+      parse_xml(std::string &xml, ptree &tree)
+      {
+        check_nesting(xml);
+        try
+          {
+            std::istringstream stream(xml);
+            std::string().swap(xml);
+            boost::property_tree::read_xml(
+              stream, tree, boost::property_tree::xml_parser::no_comments);
+          }
+        catch (const boost::property_tree::xml_parser_error &e)
+          {
+            throw Error("malformed XML at line " + std::to_string(e.line()) +
+                        ": " + e.message());
+          }
+      }
+
       // Decodes quantum by quantum, so that several concatenated base64
       // streams (VTK encodes a header and its data separately) come out as
       // one byte sequence.
@@ -286,19 +306,7 @@ namespace softface
                 xml = content;
             }
 
-          check_nesting(xml);
-          try
-            {
-              std::istringstream stream(xml);
-              std::string().swap(xml);
-              boost::property_tree::read_xml(
-                stream, tree, boost::property_tree::xml_parser::no_comments);
-            }
-          catch (const boost::property_tree::xml_parser_error &e)
-            {
-              throw Error("malformed XML at line " + std::to_string(e.line()) +
-                          ": " + e.message());
-            }
+          parse_xml(xml, tree);
 
           const auto file = tree.get_child_optional("VTKFile");
           if (!file || attribute(*file, "type") != "UnstructuredGrid")
@@ -513,19 +521,8 @@ namespace softface
           throw Error("it cannot be opened");
         std::string xml((std::istreambuf_iterator<char>(in)),
                         std::istreambuf_iterator<char>());
-        check_nesting(xml);
-        ptree tree;
-        try
-          {
-            std::istringstream stream(xml);
-            boost::property_tree::read_xml(
-              stream, tree, boost::property_tree::xml_parser::no_comments);
-          }
-        catch (const boost::property_tree::xml_parser_error &e)
-          {
-            throw Error("malformed XML at line " + std::to_string(e.line()) +
-                        ": " + e.message());
-          }
+        ptree       tree;
+        parse_xml(xml, tree);
         const auto file = tree.get_child_optional("VTKFile");
         if (!file || attribute(*file, "type") != "PUnstructuredGrid")
           throw Error("it is not a VTK PUnstructuredGrid file");

@@ -179,10 +179,7 @@ namespace softface
         {
           const auto               partition = phase("partition");
           const DistributedLayout &layout    = distributed_layout(*scene);
-          exchange = std::make_unique<PointExchange>(layout,
-                                                     mesh->row_start,
-                                                     mesh->neighbour,
-                                                     mesh->is_free);
+          exchange = std::make_unique<PointExchange>(layout, *mesh);
           add_detail("MPI ranks", n_ranks);
         }
       else if (n_ranks > 1)

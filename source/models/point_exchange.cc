@@ -12,10 +12,8 @@
 
 namespace softface
 {
-  PointExchange::PointExchange(const DistributedLayout         &layout,
-                               const std::vector<unsigned int> &row_start,
-                               const std::vector<unsigned int> &neighbour,
-                               const std::vector<bool>         &is_free)
+  PointExchange::PointExchange(const DistributedLayout &layout,
+                               const Models::PointMesh &mesh)
       : communicator(layout.communicator)
       , n_points(layout.scene.dof_handler.n_dofs() / 3)
   {
@@ -60,6 +58,9 @@ namespace softface
       if (exported[entry[0]])
         exported_dofs.push_back(entry);
 
+    const auto &row_start = mesh.row_start;
+    const auto &neighbour = mesh.neighbour;
+    const auto &is_free   = mesh.is_free;
     AssertThrow(row_start.size() == n_points + 1 && is_free.size() == n_points,
                 ExcMessage("The point mesh does not match the layout."));
 

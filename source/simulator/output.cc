@@ -40,22 +40,28 @@ namespace softface
     namespace
     {
       /**
-       * The fields of write_vtu() in @p data_out, on the cells of
-       * [first_cell, end_cell) of the scene's order. @p scalar_dofs holds the
-       * per-vertex flags' layout and must outlive @p data_out's patches.
+       * The fields of write_vtu() on the cells [first_cell, end_cell) of the
+       * scene's order, ready to write (DataOut refers to the vectors here).
        */
-      void
-      build_fields(const Scene                         &scene,
-                   const std::vector<Report::ModelRun> &runs,
-                   DoFHandler<3>                       &scalar_dofs,
-                   Vector<double>                      &join_flag,
-                   Vector<double>                      &segment_id,
-                   Vector<float>                       &material,
-                   const unsigned int                   first_cell,
-                   const unsigned int                   end_cell,
-                   DataOut<3>                          &data_out)
+      struct Fields
       {
+        Fields(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const unsigned int                   first_cell,
+               const unsigned int                   end_cell);
+
         // Per-vertex flags live on a scalar P1 layout beside the vector one.
+        DoFHandler<3>  scalar_dofs;
+        Vector<double> join_flag, segment_id;
+        Vector<float>  material;
+        DataOut<3>     data_out;
+      };
+
+      Fields::Fields(const Scene                         &scene,
+                     const std::vector<Report::ModelRun> &runs,
+                     const unsigned int                   first_cell,
+                     const unsigned int                   end_cell)
+      {
         scalar_dofs.reinit(scene.triangulation);
         scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
         join_flag.reinit(scalar_dofs.n_dofs());
@@ -141,21 +147,9 @@ namespace softface
       if (filename.size() > 4 &&
           filename.compare(filename.size() - 4, 4, ".vtu") == 0)
         remove_stale_fields(filename.substr(0, filename.size() - 4), 1);
-      DoFHandler<3>  scalar_dofs;
-      Vector<double> join_flag, segment_id;
-      Vector<float>  material;
-      DataOut<3>     data_out;
-      build_fields(scene,
-                   runs,
-                   scalar_dofs,
-                   join_flag,
-                   segment_id,
-                   material,
-                   0,
-                   scene.triangulation.n_active_cells(),
-                   data_out);
+      const Fields fields(scene, runs, 0, scene.triangulation.n_active_cells());
       std::ofstream out = open_output_file(filename);
-      data_out.write_vtu(out);
+      fields.data_out.write_vtu(out);
     }
 
     void
@@ -174,24 +168,12 @@ namespace softface
         return static_cast<unsigned int>(
           (std::uint64_t(r) * n_cells + n_ranks - 1) / n_ranks);
       };
-      DoFHandler<3>  scalar_dofs;
-      Vector<double> join_flag, segment_id;
-      Vector<float>  material;
-      DataOut<3>     data_out;
-      build_fields(scene,
-                   runs,
-                   scalar_dofs,
-                   join_flag,
-                   segment_id,
-                   material,
-                   first_of(rank),
-                   first_of(rank + 1),
-                   data_out);
+      const Fields      fields(scene, runs, first_of(rank), first_of(rank + 1));
       const std::string name = std::filesystem::path(stem).filename().string();
       {
         std::ofstream out =
           open_output_file(stem + "." + std::to_string(rank) + ".vtu");
-        data_out.write_vtu(out);
+        fields.data_out.write_vtu(out);
       }
       if (rank == 0)
         {
@@ -200,7 +182,7 @@ namespace softface
           for (unsigned int r = 0; r < n_ranks; ++r)
             pieces.push_back(name + "." + std::to_string(r) + ".vtu");
           std::ofstream out = open_output_file(stem + ".pvtu");
-          data_out.write_pvtu_record(out, pieces);
+          fields.data_out.write_pvtu_record(out, pieces);
         }
     }
 

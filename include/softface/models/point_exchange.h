@@ -5,6 +5,7 @@
 #include <deal.II/lac/la_parallel_vector.h>
 
 #include <softface/core/distributed_layout.h>
+#include <softface/models/point_mesh.h>
 
 #include <array>
 #include <vector>
@@ -39,15 +40,12 @@ namespace softface
   {
   public:
     /**
-     * The layout's owned DoFs decide who owns each point; @p row_start and
-     * @p neighbour are the point mesh's adjacency and @p is_free its free
-     * points (PointMesh): a point is on the border if a free neighbour is
-     * another rank's (join points never move). Collective.
+     * The layout's owned DoFs decide who owns each of @p mesh's points; a
+     * point is on the border if a free neighbour is another rank's (join
+     * points never move). Collective.
      */
-    PointExchange(const DistributedLayout         &layout,
-                  const std::vector<unsigned int> &row_start,
-                  const std::vector<unsigned int> &neighbour,
-                  const std::vector<bool>         &is_free);
+    PointExchange(const DistributedLayout &layout,
+                  const Models::PointMesh &mesh);
 
     const MPI_Comm communicator;
 
