@@ -736,11 +736,13 @@ namespace softface
                 {
                   files.push_back(std::make_unique<VtuFile>(source));
                 }
-              catch (const Error &e)
+              catch (const std::exception &e)
                 {
+                  // A piece that is a folder fails in the stream library.
                   if (!record)
                     throw;
-                  throw Error("its piece '" + source + "': " + e.what());
+                  throw Error("its piece '" + source +
+                              "': " + error_message(e));
                 }
               for (const auto &child : files.back()->grid())
                 if (child.first == "Piece")
