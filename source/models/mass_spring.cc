@@ -199,14 +199,12 @@ namespace softface
       const unsigned int n             = rest_position.size();
       // The points this rank moves: the free ones, on several MPI ranks
       // those it owns. Every decision to go on or stop is a global one.
-      std::vector<char> mine(n);
-      for (unsigned int j = 0; j < n; ++j)
-        mine[j] = is_free[j] && (!exchange || exchange->owns(j));
-      const auto global_sum = [&](const unsigned long long local) {
-        return exchange ? Utilities::MPI::sum(local, communicator) : local;
+      const std::vector<char> mine = points_to_update(*mesh, exchange.get());
+      const auto              global_sum = [&](const unsigned long long local) {
+        return sum_over_ranks(exchange.get(), local);
       };
       const auto global_max = [&](const double local) {
-        return exchange ? Utilities::MPI::max(local, communicator) : local;
+        return max_over_ranks(exchange.get(), local);
       };
       static_assert(sizeof(Point<3>) == 3 * sizeof(double),
                     "the exchange reads positions as 3 doubles per point");

@@ -539,16 +539,14 @@ namespace softface
       const double       w         = relaxation_factor();
       // The points this rank updates: the free ones, on several MPI ranks
       // those it owns. Every decision to go on or stop is a global one.
-      std::vector<char> mine(n);
-      for (unsigned int j = 0; j < n; ++j)
-        mine[j] = is_free[j] && (!exchange || exchange->owns(j));
-      const bool any_free =
+      const std::vector<char> mine = points_to_update(*mesh, exchange.get());
+      const bool              any_free =
         std::find(is_free.begin(), is_free.end(), true) != is_free.end();
       const auto global_sum = [&](const unsigned long long local) {
-        return exchange ? Utilities::MPI::sum(local, communicator) : local;
+        return sum_over_ranks(exchange.get(), local);
       };
       const auto global_max = [&](const double local) {
-        return exchange ? Utilities::MPI::max(local, communicator) : local;
+        return max_over_ranks(exchange.get(), local);
       };
 
       displacement.reinit(3 * n);

@@ -158,6 +158,29 @@ namespace softface
       }
   }
 
+  std::vector<char>
+  points_to_update(const Models::PointMesh &mesh, const PointExchange *exchange)
+  {
+    std::vector<char> update(mesh.n_points());
+    for (unsigned int j = 0; j < update.size(); ++j)
+      update[j] = mesh.is_free[j] && (!exchange || exchange->owns(j));
+    return update;
+  }
+
+  unsigned long long
+  sum_over_ranks(const PointExchange *exchange, const unsigned long long local)
+  {
+    return exchange ? Utilities::MPI::sum(local, exchange->communicator) :
+                      local;
+  }
+
+  double
+  max_over_ranks(const PointExchange *exchange, const double local)
+  {
+    return exchange ? Utilities::MPI::max(local, exchange->communicator) :
+                      local;
+  }
+
   void
   PointExchange::gather(double *const values) const
   {

@@ -111,6 +111,19 @@ namespace softface
     unsigned int                                       n_rank_colours = 1;
     mutable LinearAlgebra::distributed::Vector<double> buffer;
   };
+
+  /// The points a model updates on this rank: @p mesh's free points, with
+  /// an @p exchange (several ranks) those of them this rank owns.
+  std::vector<char>
+  points_to_update(const Models::PointMesh &mesh,
+                   const PointExchange     *exchange);
+
+  /// @p local summed, or its largest value, over the ranks of @p exchange;
+  /// @p local itself without one (one rank). Collective.
+  unsigned long long
+  sum_over_ranks(const PointExchange *exchange, const unsigned long long local);
+  double
+  max_over_ranks(const PointExchange *exchange, const double local);
 } // namespace softface
 
 #endif
