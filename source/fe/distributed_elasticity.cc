@@ -140,14 +140,24 @@ namespace softface
     LinearSystem::build_preconditioner()
     {
       Assert(layout != nullptr, ExcMessage("LinearSystem::assemble() first."));
-      const MPI_Comm  comm  = layout->communicator;
-      const IndexSet &owned = layout->locally_owned_dofs;
+      amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+      build_amg(*layout, parameters, stiffness, *amg);
+    }
+
+    void
+    build_amg(const DistributedLayout              &layout,
+              const LinearSolver::Parameters       &parameters,
+              const TrilinosWrappers::SparseMatrix &matrix,
+              TrilinosWrappers::PreconditionAMG    &amg)
+    {
+      const MPI_Comm  comm  = layout.communicator;
+      const IndexSet &owned = layout.locally_owned_dofs;
       // ML as the serial model builds it: the owned DoFs' points and
       // components, rotations about the centroid of all vertices.
       std::vector<Point<3>>     points(owned.n_elements());
       std::vector<unsigned int> component(owned.n_elements(),
                                           numbers::invalid_unsigned_int);
-      for (const auto &cell : layout->dof_handler.active_cell_iterators())
+      for (const auto &cell : layout.dof_handler.active_cell_iterators())
         if (!cell->is_artificial())
           for (const unsigned int v : cell->vertex_indices())
             for (unsigned int c = 0; c < 3; ++c)
@@ -165,12 +175,52 @@ namespace softface
       centroid = Point<3>(
         Utilities::MPI::sum(static_cast<const Tensor<1, 3> &>(centroid), comm));
       centroid /=
-        std::max<types::global_dof_index>(layout->dof_handler.n_dofs(), 1);
-      amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+        std::max<types::global_dof_index>(layout.dof_handler.n_dofs(), 1);
       Teuchos::ParameterList list;
       const auto             null_space = LinearSolver::amg_parameters(
-        parameters, stiffness, points, component, centroid, list);
-      amg->initialize(stiffness, list);
+        parameters, matrix, points, component, centroid, list);
+      amg.initialize(matrix, list);
+    }
+
+    bool
+    cg(const TrilinosWrappers::SparseMatrix    &matrix,
+       const TrilinosWrappers::PreconditionAMG &amg,
+       const TrilinosWrappers::MPI::Vector     &rhs,
+       TrilinosWrappers::MPI::Vector           &solution,
+       const double                             tolerance,
+       const unsigned int                       limit,
+       LinearSolver::Result                    &result)
+    {
+      SolverControl                           control(limit,
+                            tolerance,
+                            /*log_history=*/false,
+                            /*log_result=*/false);
+      SolverCG<TrilinosWrappers::MPI::Vector> solver(control);
+      // As the serial solver does: a step length alpha <= 0 means
+      // p^T K p <= 0 (K not positive definite); alpha is a global value, so
+      // every rank stops at the same iteration.
+      solver.connect_coefficients_slot([&](const double alpha, const double) {
+        if (!(alpha > 0.))
+          result.negative_curvature = true;
+      });
+      solver.connect([&](const unsigned int,
+                         const double,
+                         const TrilinosWrappers::MPI::Vector &) {
+        return result.negative_curvature ? SolverControl::failure :
+                                           SolverControl::success;
+      });
+      bool converged = true;
+      try
+        {
+          solver.solve(matrix, solution, rhs, amg);
+        }
+      catch (const SolverControl::NoConvergence &)
+        {
+          // Every rank sees the same global norms: every rank gets here.
+          converged = false;
+        }
+      result.iterations += control.last_step();
+      return converged;
     }
 
     Result
@@ -231,37 +281,18 @@ namespace softface
         std::sqrt(Utilities::fixed_power<2>(rhs.l2_norm()) +
                   Utilities::MPI::sum(join_norm, comm));
 
-      Result                                  result;
-      TrilinosWrappers::MPI::Vector           solution(owned, comm);
-      SolverControl                           control(parameters.max_iterations,
+      Result                        result;
+      TrilinosWrappers::MPI::Vector solution(owned, comm);
+      LinearSolver::Result          cg_result;
+      result.converged              = cg(stiffness,
+                            *amg,
+                            rhs,
+                            solution,
                             parameters.relative_tolerance * serial_rhs_norm,
-                            /*log_history=*/false,
-                            /*log_result=*/false);
-      SolverCG<TrilinosWrappers::MPI::Vector> cg(control);
-      // As the serial solver does: a step length alpha <= 0 means
-      // p^T K p <= 0 (K not positive definite); alpha is a global value, so
-      // every rank stops at the same iteration.
-      bool negative_curvature = false;
-      cg.connect_coefficients_slot([&](const double alpha, const double) {
-        if (!(alpha > 0.))
-          negative_curvature = true;
-      });
-      cg.connect([&](const unsigned int,
-                     const double,
-                     const TrilinosWrappers::MPI::Vector &) {
-        return negative_curvature ? SolverControl::failure :
-                                    SolverControl::success;
-      });
-      try
-        {
-          cg.solve(stiffness, solution, rhs, *amg);
-          result.converged = true;
-        }
-      catch (const SolverControl::NoConvergence &)
-        {
-          // Every rank sees the same global norms: every rank gets here.
-        }
-      result.iterations = control.last_step();
+                            parameters.max_iterations,
+                            cg_result);
+      result.iterations             = cg_result.iterations;
+      const bool negative_curvature = cg_result.negative_curvature;
       TrilinosWrappers::MPI::Vector residual(owned, comm);
       stiffness.vmult(residual, solution);
       residual -= rhs;

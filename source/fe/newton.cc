@@ -271,9 +271,16 @@ namespace softface
 
         {
           TimerOutput::Scope scope(timer, "assembly");
-          ConstrainedSystem::right_hand_side(
-            tangent, is_join, join_increment, &forces, rhs);
-          ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+          if (distributed != nullptr)
+            distributed->right_hand_side_and_eliminate(join_increment,
+                                                       forces,
+                                                       rhs);
+          else
+            {
+              ConstrainedSystem::right_hand_side(
+                tangent, is_join, join_increment, &forces, rhs);
+              ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+            }
           if (constraints != nullptr)
             {
               // du = closing + C x: C^T K C x = C^T (rhs - K closing).
@@ -497,6 +504,14 @@ namespace softface
   LoadSteppedNewton::solve_tangent(const Vector<double> &rhs,
                                    Vector<double>       &du)
   {
+    if (distributed != nullptr)
+      {
+        const unsigned int builds_before = distributed->n_amg_builds();
+        const auto         solve         = distributed->solve(rhs, du);
+        report.linear_iterations += solve.iterations;
+        report.amg_rebuilds += distributed->n_amg_builds() - builds_before;
+        return solve;
+      }
     const unsigned int   builds_before = linear_solver.n_amg_builds();
     LinearSolver::Result solve;
     du = 0.;
@@ -560,6 +575,11 @@ namespace softface
   {
     if (load == 0.)
       return "";
+    // The stability test is a Cholesky factorisation of the whole tangent.
+    if (distributed != nullptr)
+      return " (On several MPI ranks the tangent's stability is not "
+             "tested: a run on one rank says whether the law lost stability "
+             "there.)";
     std::ostringstream s;
     if (!tangent_positive_definite(u, load, timer))
       s << " At that load the tangent is not positive definite: the "
@@ -591,6 +611,12 @@ namespace softface
     max_rounds  = max_active_set_rounds;
   }
 
+  void
+  LoadSteppedNewton::set_distributed_tangent(DistributedTangent *tangent_in)
+  {
+    distributed = tangent_in;
+  }
+
   LoadSteppedNewton::Report
   LoadSteppedNewton::solve(const Vector<double> &join_motion,
                            Vector<double>       &u,
@@ -608,6 +634,13 @@ namespace softface
                   ": 'Nonlinear solver = kinsol' does not take the "
                   "constraints of sliding contact or separated lips; use "
                   "'newton'.");
+    // What needs the whole tangent on one rank (the model runs whole on
+    // every rank instead).
+    Assert(distributed == nullptr ||
+             (prm.corrector == Parameters::Corrector::newton &&
+              constraints == nullptr && !prm.indefinite_lu &&
+              !prm.check_stability),
+           ExcMessage("Not on a distributed tangent."));
     report          = Report();
     reference_force = 0.;
     u.reinit(n);

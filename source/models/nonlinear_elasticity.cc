@@ -101,13 +101,44 @@ namespace softface
     void
     NonlinearElasticity::do_setup(const Scene &scene_in)
     {
-      scene      = &scene_in;
-      body_force = nullptr;
+      scene        = &scene_in;
+      body_force   = nullptr;
+      ranks_layout = nullptr;
+      distributed_tangent.reset();
       dof_points.clear();
       dof_component.clear();
       setup_layout();
-      tangent.reinit(sparsity);
       set_n_dofs(is_join.size());
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      if (ranks_layout != nullptr)
+        {
+          {
+            const auto timed = phase("matrix positions");
+            distributed_tangent =
+              std::make_unique<DistributedTangent>(*ranks_layout,
+                                                   solver_parameters);
+          }
+          // ML on the tangent at rest, as on one rank.
+          const auto     timed = phase("preconditioner");
+          Vector<double> zero(is_join.size()), forces, rhs;
+          evaluate_on_ranks(zero, forces, true);
+          distributed_tangent->right_hand_side_and_eliminate(zero, forces, rhs);
+          distributed_tangent->build_amg();
+          add_detail("MPI ranks", n_ranks);
+          return;
+        }
+      if (n_ranks > 1)
+        {
+          const std::string why = why_not_on_ranks();
+          add_detail("MPI ranks",
+                     "1 (" +
+                       (why.empty() ? "not distributed yet: whole on every "
+                                      "rank" :
+                                      why) +
+                       ")");
+        }
+      tangent.reinit(sparsity);
 
       const auto timed = phase("preconditioner");
       if (dof_points.empty())
@@ -156,7 +187,9 @@ namespace softface
         [this](const Vector<double> &v,
                Vector<double>       &forces,
                SparseMatrix<double> *matrix) {
-          return evaluate(v, forces, matrix);
+          return distributed_tangent ?
+                   evaluate_on_ranks(v, forces, matrix != nullptr) :
+                   evaluate(v, forces, matrix);
         },
         tangent,
         is_join,
@@ -170,6 +203,7 @@ namespace softface
           join_motion(bone, target);
         });
       newton.set_initial_guess(initial_guess);
+      newton.set_distributed_tangent(distributed_tangent.get());
       if (vertex_constraints)
         newton.set_vertex_constraints(vertex_constraints.get(),
                                       &prescribed,
@@ -210,6 +244,34 @@ namespace softface
       add_detail("linear iterations", last_report.linear_iterations);
       if (solver_parameters.method != "direct")
         add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    std::string
+    NonlinearElasticity::why_not_on_ranks() const
+    {
+      if (scene->has_vertex_constraints())
+        return "vertex constraints: whole on every rank";
+      if (solver_parameters.method != "cg amg")
+        return "Solver '" + solver_parameters.method +
+               "': whole on every rank; 'cg amg' is distributed";
+      if (newton_parameters.corrector ==
+          LoadSteppedNewton::Parameters::Corrector::kinsol)
+        return "KINSOL: whole on every rank";
+      if (newton_parameters.indefinite_lu)
+        return "LU on indefinite tangents: whole on every rank";
+      // Each load step's stability test is a Cholesky factorisation.
+      if (law == MaterialLaw::Law::st_venant_kirchhoff)
+        return "St. Venant-Kirchhoff's stability test: whole on every rank";
+      return "";
+    }
+
+    bool
+    NonlinearElasticity::evaluate_on_ranks(const Vector<double> &,
+                                           Vector<double> &,
+                                           const bool) const
+    {
+      AssertThrow(false, ExcMessage(model_name + " does not run on ranks."));
+      return false;
     }
 
     std::string

@@ -60,6 +60,29 @@ namespace softface
           }
       }
 
+      // On several MPI ranks each evaluates its own cells into a
+      // distributed tangent; the serial matrix's positions are not needed.
+      rank_cells.clear();
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
+          why_not_on_ranks().empty())
+        {
+          const auto timed = phase("partition");
+          ranks_layout     = &distributed_layout(*scene);
+          for (const auto &cell :
+               ranks_layout->dof_handler.active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                RankCell rank_cell;
+                rank_cell.serial =
+                  ranks_layout->serial_cell(cell)->active_cell_index();
+                for (unsigned int a = 0; a < 4; ++a)
+                  for (unsigned int i = 0; i < 3; ++i)
+                    rank_cell.dofs[3 * a + i] = cell->vertex_dof_index(a, i);
+                rank_cells.push_back(rank_cell);
+              }
+          return;
+        }
+
       const auto timed = phase("matrix positions");
       partition.reinit(cell_dofs, is_join.size(), Threads::n_threads());
       ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
@@ -164,6 +187,58 @@ namespace softface
       if (first_refused != numbers::invalid_unsigned_int)
         {
           refusal = describe_cell(first_refused);
+          return false;
+        }
+      return true;
+    }
+
+    bool
+    NonlinearFEM::evaluate_on_ranks(const Vector<double> &u,
+                                    Vector<double>       &forces,
+                                    const bool            with_tangent) const
+    {
+      distributed_tangent->begin_assembly(with_tangent);
+      Elasticity::P1Response               response;
+      std::array<Tensor<1, 3>, 4>          u_cell;
+      std::vector<types::global_dof_index> dofs(12);
+      Vector<double>                       cell_forces(12);
+      FullMatrix<double>                   cell_tangent(12, 12);
+      // The first refused cell in the scene's order, as on one rank.
+      unsigned int refused = numbers::invalid_unsigned_int;
+      for (const auto &rank_cell : rank_cells)
+        {
+          const unsigned int c           = rank_cell.serial;
+          const auto        &serial_dofs = cell_dofs[c];
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              u_cell[a][i] = u[serial_dofs[3 * a + i]];
+          if (!Elasticity::p1_response(law,
+                                       tissue_lame[scene->tissue_of_cell(c)],
+                                       cell_geometry[c],
+                                       u_cell,
+                                       with_tangent,
+                                       response))
+            {
+              if (cell_has_free_vertex[c])
+                refused = std::min(refused, c);
+              continue;
+            }
+          for (unsigned int r = 0; r < 12; ++r)
+            {
+              dofs[r]        = rank_cell.dofs[r];
+              cell_forces[r] = response.force[r / 3][r % 3];
+              if (with_tangent)
+                for (unsigned int q = 0; q < 12; ++q)
+                  cell_tangent(r, q) =
+                    response.tangent[r / 3][q / 3][r % 3][q % 3];
+            }
+          distributed_tangent->add_cell(dofs, cell_forces, cell_tangent);
+        }
+      distributed_tangent->end_assembly(forces);
+      refused = Utilities::MPI::min(refused, communicator);
+      if (refused != numbers::invalid_unsigned_int)
+        {
+          refusal = describe_cell(refused);
           return false;
         }
       return true;

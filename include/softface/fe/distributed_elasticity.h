@@ -77,6 +77,33 @@ namespace softface
       std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
     };
 
+    /**
+     * ML on @p matrix, a matrix of @p layout's DoFs, as the serial models
+     * build it: the six rigid-body modes of the DoFs this rank owns, turned
+     * about the centroid of all vertices. Collective.
+     */
+    void
+    build_amg(const DistributedLayout              &layout,
+              const LinearSolver::Parameters       &parameters,
+              const TrilinosWrappers::SparseMatrix &matrix,
+              TrilinosWrappers::PreconditionAMG    &amg);
+
+    /**
+     * CG from @p solution down to the residual norm @p tolerance in at most
+     * @p limit iterations, stopped where it meets negative curvature as the
+     * serial LinearSolver is (@p result's flag). Adds its iterations to
+     * @p result; returns whether it converged. Collective; every rank takes
+     * the same decisions (they follow global norms).
+     */
+    bool
+    cg(const TrilinosWrappers::SparseMatrix    &matrix,
+       const TrilinosWrappers::PreconditionAMG &amg,
+       const TrilinosWrappers::MPI::Vector     &rhs,
+       TrilinosWrappers::MPI::Vector           &solution,
+       const double                             tolerance,
+       const unsigned int                       limit,
+       LinearSolver::Result                    &result);
+
     /// assemble(), build_preconditioner() and solve() at once.
     Result
     solve_linear(const DistributedLayout        &layout,

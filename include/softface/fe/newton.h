@@ -6,6 +6,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
+#include <softface/fe/distributed_tangent.h>
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/sparse_cholesky.h>
 #include <softface/fe/vertex_constraints.h>
@@ -168,6 +169,18 @@ namespace softface
     }
 
     /**
+     * Assemble, eliminate and solve the tangent on several MPI ranks through
+     * @p tangent (referenced until solve() returns; null: the serial tangent
+     * and linear solver). The evaluation then fills @p tangent where it is
+     * asked for the tangent (the serial matrix's pointer says only whether).
+     * Newton's vectors stay whole on every rank, so every rank decides
+     * alike. Not with KINSOL, vertex constraints, LU on an indefinite
+     * tangent or the stability test (they need the whole tangent).
+     */
+    void
+    set_distributed_tangent(DistributedTangent *tangent);
+
+    /**
      * The join DoFs' target at a load in (0, 1] and, with vertex
      * constraints, the bone displacement at the sliding vertices there,
      * instead of the load times the final ones. Used if
@@ -287,6 +300,7 @@ namespace softface
     unsigned int          max_rounds      = 50;
     Path                  path;
     const Vector<double> *initial_guess = nullptr;
+    DistributedTangent   *distributed   = nullptr;
     /// For the stability checks (its ordering reused).
     SparseCholesky stability_cholesky;
     /// The bone displacement at the current load on a path, and the load

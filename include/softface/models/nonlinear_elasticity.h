@@ -4,6 +4,8 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <softface/core/distributed_layout.h>
+#include <softface/fe/distributed_tangent.h>
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/material_law.h>
 #include <softface/fe/newton.h>
@@ -89,6 +91,28 @@ namespace softface
       virtual void
       vertex_values(const Vector<double> &u, Vector<double> &displacement) = 0;
 
+      /**
+       * On several MPI ranks: why the model runs whole on every rank, or
+       * empty if a derived model that evaluates on the ranks may (Solver
+       * 'cg amg', Newton's own loop, 'Indefinite tangent = cut back', no
+       * stability test, no vertex constraints: what needs the whole tangent
+       * stays serial).
+       */
+      std::string
+      why_not_on_ranks() const;
+
+      /**
+       * The forces (serial layout, every rank) and, if @p with_tangent, the
+       * tangent into distributed_tangent, from this rank's cells of
+       * ranks_layout; false on every rank if a cell of any rank refuses the
+       * state. Collective. Only for a model whose setup_layout() set
+       * ranks_layout.
+       */
+      virtual bool
+      evaluate_on_ranks(const Vector<double> &u,
+                        Vector<double>       &forces,
+                        const bool            with_tangent) const;
+
       void
       do_setup(const Scene &scene) override;
       void
@@ -116,6 +140,12 @@ namespace softface
       /// Constraints on free vertices of the shared layout (sliding
       /// contact, lips), if the layout is the shared one and has any.
       std::unique_ptr<VertexConstraintSet> vertex_constraints;
+      /// On several MPI ranks, the run's layout if setup_layout() chose to
+      /// evaluate on the ranks (why_not_on_ranks() empty); then the serial
+      /// sparsity is left empty and the tangent lives in
+      /// distributed_tangent.
+      const DistributedLayout            *ranks_layout = nullptr;
+      std::unique_ptr<DistributedTangent> distributed_tangent;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;

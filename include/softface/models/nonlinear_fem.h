@@ -38,6 +38,11 @@ namespace softface
                Vector<double>       &forces,
                SparseMatrix<double> *tangent) const override;
 
+      bool
+      evaluate_on_ranks(const Vector<double> &u,
+                        Vector<double>       &forces,
+                        const bool            with_tangent) const override;
+
     protected:
       void
       setup_layout() override;
@@ -60,6 +65,14 @@ namespace softface
       RowPartition partition;
       /// The Lame coefficients of every tissue of the scene.
       std::vector<Lame> tissue_lame;
+      /// On several MPI ranks, this rank's cells: the scene's cell and the
+      /// layout DoFs of its vertices (vertex by vertex, as cell_dofs).
+      struct RankCell
+      {
+        unsigned int                            serial;
+        std::array<types::global_dof_index, 12> dofs;
+      };
+      std::vector<RankCell> rank_cells;
     };
   } // namespace Models
 } // namespace softface

@@ -1,0 +1,200 @@
+// The Newton tangent and forces of a nonlinear FEM model on several MPI ranks
+// (issue 20): cells added on their rank, the tangent a Trilinos matrix, the
+// join DoFs eliminated in place and CG with ML. See fe/distributed_tangent.h.
+
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/lac/trilinos_index_access.h>
+#include <deal.II/lac/trilinos_sparsity_pattern.h>
+
+#include <softface/fe/distributed_elasticity.h>
+#include <softface/fe/distributed_tangent.h>
+
+#include <Epetra_CrsMatrix.h>
+
+#include <cmath>
+
+namespace softface
+{
+  DistributedTangent::DistributedTangent(
+    const DistributedLayout        &layout,
+    const LinearSolver::Parameters &parameters)
+      : layout(layout)
+      , parameters(parameters)
+  {
+    const MPI_Comm comm = layout.communicator;
+    // Every coupling of the layout, join DoFs included: the right-hand side
+    // needs the join columns before they are eliminated.
+    TrilinosWrappers::SparsityPattern sparsity(layout.locally_owned_dofs,
+                                               layout.locally_owned_dofs,
+                                               layout.locally_relevant_dofs,
+                                               comm);
+    DoFTools::make_sparsity_pattern(layout.dof_handler,
+                                    sparsity,
+                                    AffineConstraints<double>(),
+                                    /*keep_constrained_dofs=*/true,
+                                    Utilities::MPI::this_mpi_process(comm));
+    sparsity.compress();
+    tangent.reinit(sparsity);
+    forces.reinit(layout.locally_owned_dofs,
+                  layout.locally_relevant_dofs,
+                  comm,
+                  /*vector_writable=*/true);
+  }
+
+  void
+  DistributedTangent::begin_assembly(const bool with_tangent_in)
+  {
+    with_tangent = with_tangent_in;
+    forces       = 0.;
+    if (with_tangent)
+      tangent = 0.;
+  }
+
+  void
+  DistributedTangent::add_cell(const std::vector<types::global_dof_index> &dofs,
+                               const Vector<double>     &cell_forces,
+                               const FullMatrix<double> &cell_tangent)
+  {
+    for (unsigned int i = 0; i < dofs.size(); ++i)
+      forces[dofs[i]] += cell_forces[i];
+    if (with_tangent)
+      tangent.add(dofs, cell_tangent);
+  }
+
+  void
+  DistributedTangent::end_assembly(Vector<double> &serial_forces)
+  {
+    forces.compress(VectorOperation::add);
+    if (with_tangent)
+      tangent.compress(VectorOperation::add);
+    serial_forces = layout.gather(forces);
+  }
+
+  void
+  DistributedTangent::right_hand_side_and_eliminate(
+    const Vector<double> &join_increment,
+    const Vector<double> &residual,
+    Vector<double>       &rhs)
+  {
+    const MPI_Comm                comm  = layout.communicator;
+    const IndexSet               &owned = layout.locally_owned_dofs;
+    TrilinosWrappers::MPI::Vector d(owned, comm), Kd(owned, comm),
+      rhs_owned(owned, comm);
+    for (const auto dof : owned)
+      if (layout.is_join_dof(dof))
+        d[dof] = join_increment[layout.serial_dof(dof)];
+    d.compress(VectorOperation::insert);
+    tangent.vmult(Kd, d);
+    for (const auto dof : owned)
+      {
+        const auto serial = layout.serial_dof(dof);
+        if (layout.is_join_dof(dof))
+          {
+            const double diagonal = tangent.diag_element(dof);
+            rhs_owned[dof] =
+              (diagonal != 0. ? std::abs(diagonal) : 1.) * d[dof];
+          }
+        else
+          rhs_owned[dof] = -(Kd[dof] + residual[serial]);
+      }
+    rhs_owned.compress(VectorOperation::insert);
+    rhs = layout.gather(rhs_owned);
+
+    // The elimination in place, row by row of this rank's rows, as
+    // ConstrainedSystem::eliminate_join_dofs() does on the serial matrix.
+    // Every column of an owned row is a locally relevant DoF (a cell at an
+    // owned vertex is an owned or a ghost cell).
+    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
+    for (int local_row = 0; local_row < matrix.NumMyRows(); ++local_row)
+      {
+        const types::global_dof_index row =
+          TrilinosWrappers::global_row_index(matrix, local_row);
+        const bool join_row = layout.is_join_dof(row);
+        int        n_entries;
+        double    *values;
+        int       *columns;
+        matrix.ExtractMyRowView(local_row, n_entries, values, columns);
+        for (int k = 0; k < n_entries; ++k)
+          {
+            const types::global_dof_index column =
+              TrilinosWrappers::global_column_index(matrix, columns[k]);
+            if (column == row)
+              {
+                if (join_row)
+                  values[k] = values[k] != 0. ? std::abs(values[k]) : 1.;
+              }
+            else if (join_row || layout.is_join_dof(column))
+              values[k] = 0.;
+          }
+      }
+  }
+
+  void
+  DistributedTangent::build_amg()
+  {
+    // On a copy, as the serial LinearSolver: ML's finest level refers to
+    // its matrix, and the tangent is overwritten by every assembly (its
+    // smoother then met a matrix other than the one its Chebyshev bounds
+    // were estimated for, and CG found negative curvature).
+    amg_matrix.copy_from(tangent);
+    amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+    DistributedElasticity::build_amg(layout, parameters, amg_matrix, *amg);
+    ++amg_builds;
+  }
+
+  LinearSolver::Result
+  DistributedTangent::solve(const Vector<double> &rhs, Vector<double> &du)
+  {
+    Assert(amg != nullptr,
+           ExcMessage("DistributedTangent::build_amg() first."));
+    const MPI_Comm                comm = layout.communicator;
+    TrilinosWrappers::MPI::Vector b(layout.locally_owned_dofs, comm),
+      x(layout.locally_owned_dofs, comm);
+    layout.scatter(rhs, b);
+    // The serial solver's tolerance: relative to the whole right-hand side
+    // (every rank holds it).
+    const double tolerance = parameters.relative_tolerance * rhs.l2_norm();
+    LinearSolver::Result result;
+    if (parameters.amg_rebuild_iterations == 0)
+      result.converged = DistributedElasticity::cg(
+        tangent, *amg, b, x, tolerance, parameters.max_iterations, result);
+    else
+      {
+        // As LinearSolver::solve(): a slow solve continues with ML rebuilt
+        // on this tangent; one over the limit rebuilds it for the next.
+        const unsigned int first_attempt =
+          std::min(parameters.max_iterations,
+                   2 * parameters.amg_rebuild_iterations);
+        result.converged = DistributedElasticity::cg(
+          tangent, *amg, b, x, tolerance, first_attempt, result);
+        if (!result.converged && !result.negative_curvature &&
+            first_attempt < parameters.max_iterations)
+          {
+            build_amg();
+            result.converged =
+              DistributedElasticity::cg(tangent,
+                                        *amg,
+                                        b,
+                                        x,
+                                        tolerance,
+                                        parameters.max_iterations -
+                                          first_attempt,
+                                        result);
+          }
+        else if (result.iterations > parameters.amg_rebuild_iterations)
+          build_amg();
+      }
+    TrilinosWrappers::MPI::Vector r(layout.locally_owned_dofs, comm);
+    tangent.vmult(r, x);
+    r -= b;
+    result.relative_residual = r.l2_norm() / std::max(rhs.l2_norm(), 1e-300);
+    du                       = layout.gather(x);
+    return result;
+  }
+
+  unsigned int
+  DistributedTangent::n_amg_builds() const
+  {
+    return amg_builds;
+  }
+} // namespace softface
