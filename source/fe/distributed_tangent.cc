@@ -11,6 +11,7 @@
 
 #include <Epetra_CrsMatrix.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace softface
@@ -35,10 +36,49 @@ namespace softface
                                     Utilities::MPI::this_mpi_process(comm));
     sparsity.compress();
     tangent.reinit(sparsity);
-    forces.reinit(layout.locally_owned_dofs,
-                  layout.locally_relevant_dofs,
-                  comm,
-                  /*vector_writable=*/true);
+    forces.reinit(layout.locally_owned_dofs, comm);
+    // Zeroing compresses the matrix, which settles its storage (deal.II
+    // optimises it then): the positions set_cells() finds stay valid.
+    tangent = 0.;
+  }
+
+  void
+  DistributedTangent::set_cells(
+    const std::vector<std::array<types::global_dof_index, 12>> &cell_dofs)
+  {
+    const auto &matrix = tangent.trilinos_matrix();
+    // A row's place among this rank's rows is its place in the forces too.
+    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
+                ExcInternalError());
+    cell_row.assign(12 * cell_dofs.size(), -1);
+    cell_entry.assign(144 * cell_dofs.size(), -1);
+    for (unsigned int c = 0; c < cell_dofs.size(); ++c)
+      for (unsigned int r = 0; r < 12; ++r)
+        {
+          const int local_row = matrix.LRID(
+            static_cast<TrilinosWrappers::types::int_type>(cell_dofs[c][r]));
+          if (local_row < 0)
+            continue;
+          cell_row[12 * c + r] = local_row;
+          int     n_entries;
+          double *values;
+          int    *columns;
+          const_cast<Epetra_CrsMatrix &>(matrix).ExtractMyRowView(local_row,
+                                                                  n_entries,
+                                                                  values,
+                                                                  columns);
+          for (unsigned int q = 0; q < 12; ++q)
+            {
+              const int column =
+                matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
+                  cell_dofs[c][q]));
+              const int *found =
+                std::find(columns, columns + n_entries, column);
+              AssertThrow(column >= 0 && found != columns + n_entries,
+                          ExcInternalError());
+              cell_entry[144 * c + 12 * r + q] = found - columns;
+            }
+        }
   }
 
   void
@@ -46,27 +86,48 @@ namespace softface
   {
     with_tangent = with_tangent_in;
     forces       = 0.;
-    if (with_tangent)
-      tangent = 0.;
+    if (!with_tangent)
+      return;
+    tangent = 0.;
+    // Where each row's values are now (looked up again after every
+    // compression, which may move them).
+    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
+    row_values.resize(matrix.NumMyRows());
+    for (int local_row = 0; local_row < matrix.NumMyRows(); ++local_row)
+      {
+        int  n_entries;
+        int *columns;
+        matrix.ExtractMyRowView(local_row,
+                                n_entries,
+                                row_values[local_row],
+                                columns);
+      }
   }
 
   void
-  DistributedTangent::add_cell(const std::vector<types::global_dof_index> &dofs,
-                               const Vector<double>     &cell_forces,
-                               const FullMatrix<double> &cell_tangent)
+  DistributedTangent::add_cell(const unsigned int            cell,
+                               const Elasticity::P1Response &response)
   {
-    for (unsigned int i = 0; i < dofs.size(); ++i)
-      forces[dofs[i]] += cell_forces[i];
-    if (with_tangent)
-      tangent.add(dofs, cell_tangent);
+    double *owned_forces = forces.trilinos_vector()[0];
+    for (unsigned int r = 0; r < 12; ++r)
+      {
+        const int local_row = cell_row[12 * cell + r];
+        if (local_row < 0)
+          continue;
+        owned_forces[local_row] += response.force[r / 3][r % 3];
+        if (!with_tangent)
+          continue;
+        double    *values = row_values[local_row];
+        const int *entry  = &cell_entry[144 * cell + 12 * r];
+        for (unsigned int b = 0; b < 4; ++b)
+          for (unsigned int j = 0; j < 3; ++j)
+            values[*entry++] += response.tangent[r / 3][b][r % 3][j];
+      }
   }
 
   void
   DistributedTangent::end_assembly(Vector<double> &serial_forces)
   {
-    forces.compress(VectorOperation::add);
-    if (with_tangent)
-      tangent.compress(VectorOperation::add);
     serial_forces = layout.gather(forces);
   }
 

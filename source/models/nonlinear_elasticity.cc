@@ -118,6 +118,8 @@ namespace softface
             distributed_tangent =
               std::make_unique<DistributedTangent>(*ranks_layout,
                                                    solver_parameters);
+            distributed_tangent->set_cells(ranks_cell_dofs);
+            ranks_cell_dofs = {};
           }
           // ML on the tangent at rest, as on one rank.
           const auto     timed = phase("preconditioner");

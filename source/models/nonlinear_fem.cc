@@ -68,17 +68,27 @@ namespace softface
         {
           const auto timed = phase("partition");
           ranks_layout     = &distributed_layout(*scene);
+          // Its own cells and the ghost cells at its DoFs: each rank adds
+          // its own rows only (DistributedTangent::set_cells()).
+          ranks_cell_dofs.clear();
           for (const auto &cell :
                ranks_layout->dof_handler.active_cell_iterators())
-            if (cell->is_locally_owned())
+            if (!cell->is_artificial())
               {
-                RankCell rank_cell;
-                rank_cell.serial =
-                  ranks_layout->serial_cell(cell)->active_cell_index();
+                std::array<types::global_dof_index, 12> dofs;
+                bool                                    at_own_dof = false;
                 for (unsigned int a = 0; a < 4; ++a)
                   for (unsigned int i = 0; i < 3; ++i)
-                    rank_cell.dofs[3 * a + i] = cell->vertex_dof_index(a, i);
-                rank_cells.push_back(rank_cell);
+                    {
+                      dofs[3 * a + i] = cell->vertex_dof_index(a, i);
+                      at_own_dof |= ranks_layout->locally_owned_dofs.is_element(
+                        dofs[3 * a + i]);
+                    }
+                if (!at_own_dof)
+                  continue;
+                rank_cells.push_back(
+                  ranks_layout->serial_cell(cell)->active_cell_index());
+                ranks_cell_dofs.push_back(dofs);
               }
           return;
         }
@@ -198,41 +208,26 @@ namespace softface
                                     const bool            with_tangent) const
     {
       distributed_tangent->begin_assembly(with_tangent);
-      Elasticity::P1Response               response;
-      std::array<Tensor<1, 3>, 4>          u_cell;
-      std::vector<types::global_dof_index> dofs(12);
-      Vector<double>                       cell_forces(12);
-      FullMatrix<double>                   cell_tangent(12, 12);
+      Elasticity::P1Response      response;
+      std::array<Tensor<1, 3>, 4> u_cell;
       // The first refused cell in the scene's order, as on one rank.
       unsigned int refused = numbers::invalid_unsigned_int;
-      for (const auto &rank_cell : rank_cells)
+      for (unsigned int k = 0; k < rank_cells.size(); ++k)
         {
-          const unsigned int c           = rank_cell.serial;
+          const unsigned int c           = rank_cells[k];
           const auto        &serial_dofs = cell_dofs[c];
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               u_cell[a][i] = u[serial_dofs[3 * a + i]];
-          if (!Elasticity::p1_response(law,
-                                       tissue_lame[scene->tissue_of_cell(c)],
-                                       cell_geometry[c],
-                                       u_cell,
-                                       with_tangent,
-                                       response))
-            {
-              if (cell_has_free_vertex[c])
-                refused = std::min(refused, c);
-              continue;
-            }
-          for (unsigned int r = 0; r < 12; ++r)
-            {
-              dofs[r]        = rank_cell.dofs[r];
-              cell_forces[r] = response.force[r / 3][r % 3];
-              if (with_tangent)
-                for (unsigned int q = 0; q < 12; ++q)
-                  cell_tangent(r, q) =
-                    response.tangent[r / 3][q / 3][r % 3][q % 3];
-            }
-          distributed_tangent->add_cell(dofs, cell_forces, cell_tangent);
+          if (Elasticity::p1_response(law,
+                                      tissue_lame[scene->tissue_of_cell(c)],
+                                      cell_geometry[c],
+                                      u_cell,
+                                      with_tangent,
+                                      response))
+            distributed_tangent->add_cell(k, response);
+          else if (cell_has_free_vertex[c])
+            refused = std::min(refused, c);
         }
       distributed_tangent->end_assembly(forces);
       refused = Utilities::MPI::min(refused, communicator);

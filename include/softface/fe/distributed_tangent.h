@@ -8,8 +8,10 @@
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/distributed_layout.h>
+#include <softface/fe/elasticity.h>
 #include <softface/fe/linear_solver.h>
 
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -18,10 +20,10 @@ namespace softface
   using namespace dealii;
 
   /**
-   * The Newton tangent and nodal forces of a nonlinear FEM model on a
-   * DistributedLayout (issue 20). The model adds its own cells' forces and
-   * tangents (add_cell(), layout DoFs); the tangent stays a Trilinos matrix
-   * on the ranks, the forces come back as the serial vector on every rank.
+   * The Newton tangent and nodal forces of a P1 nonlinear FEM model on a
+   * DistributedLayout (issue 20). The model evaluates the cells at this
+   * rank's DoFs (add_cell()); the tangent stays a Trilinos matrix on the
+   * ranks, the forces come back as the serial vector on every rank.
    *
    * LoadSteppedNewton keeps its vectors whole on every rank, in the serial
    * layout: they are a small part of a run's memory (the matrix and its ML
@@ -43,19 +45,28 @@ namespace softface
     DistributedTangent(const DistributedLayout        &layout,
                        const LinearSolver::Parameters &parameters);
 
+    /**
+     * The cells this rank evaluates, by their layout DoFs (vertex by vertex,
+     * component by component): its own cells and the ghost cells at the DoFs
+     * it owns. Each cell adds to the rows this rank owns only, so that no
+     * contribution crosses the ranks; a cell at two ranks' DoFs is
+     * evaluated on both. The matrix positions of every cell's entries are
+     * found here once, as the serial model finds them.
+     */
+    void
+    set_cells(
+      const std::vector<std::array<types::global_dof_index, 12>> &cell_dofs);
+
     /// Zero the forces and, if @p with_tangent, the tangent.
     void
     begin_assembly(const bool with_tangent);
 
-    /// Add a cell's nodal forces and, if the assembly has one, its tangent,
-    /// at the layout DoFs @p dofs (locally relevant).
+    /// Add the forces and, if the assembly has one, the tangent of cell
+    /// @p cell (its place in set_cells()) on this rank's rows.
     void
-    add_cell(const std::vector<types::global_dof_index> &dofs,
-             const Vector<double>                       &cell_forces,
-             const FullMatrix<double>                   &cell_tangent);
+    add_cell(const unsigned int cell, const Elasticity::P1Response &response);
 
-    /// Sum the ranks' contributions; the forces in the serial layout on every
-    /// rank. Collective.
+    /// The forces in the serial layout on every rank. Collective.
     void
     end_assembly(Vector<double> &forces);
 
@@ -97,8 +108,16 @@ namespace softface
     TrilinosWrappers::SparseMatrix tangent;
     /// The tangent ML was built on (ML refers to it).
     TrilinosWrappers::SparseMatrix amg_matrix;
-    /// Owned entries plus the ghosts a rank's cells add to.
-    TrilinosWrappers::MPI::Vector                      forces;
+    /// The owned entries.
+    TrilinosWrappers::MPI::Vector forces;
+    /// Per cell and local row r (12 each): the row's place among this
+    /// rank's rows (-1 if another rank owns it) and the places of the
+    /// columns q in that row's values.
+    std::vector<int> cell_row;
+    std::vector<int> cell_entry;
+    /// The values of each of this rank's rows in the Trilinos matrix (its
+    /// storage does not move once the pattern is set).
+    std::vector<double *>                              row_values;
     bool                                               with_tangent = false;
     std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
     unsigned int                                       amg_builds = 0;

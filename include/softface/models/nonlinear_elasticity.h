@@ -146,6 +146,9 @@ namespace softface
       /// distributed_tangent.
       const DistributedLayout            *ranks_layout = nullptr;
       std::unique_ptr<DistributedTangent> distributed_tangent;
+      /// The layout DoFs of the cells this rank evaluates, for
+      /// DistributedTangent::set_cells() (emptied once it has them).
+      std::vector<std::array<types::global_dof_index, 12>> ranks_cell_dofs;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;

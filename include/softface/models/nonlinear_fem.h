@@ -65,14 +65,9 @@ namespace softface
       RowPartition partition;
       /// The Lame coefficients of every tissue of the scene.
       std::vector<Lame> tissue_lame;
-      /// On several MPI ranks, this rank's cells: the scene's cell and the
-      /// layout DoFs of its vertices (vertex by vertex, as cell_dofs).
-      struct RankCell
-      {
-        unsigned int                            serial;
-        std::array<types::global_dof_index, 12> dofs;
-      };
-      std::vector<RankCell> rank_cells;
+      /// On several MPI ranks, the cells this rank evaluates (the scene's
+      /// cell numbers), its own and the ghost cells at its DoFs.
+      std::vector<unsigned int> rank_cells;
     };
   } // namespace Models
 } // namespace softface
