@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Strong scaling, one MPI rank against two (issue 20): linear FEM (cg amg), the mass tensor and
-the mass spring model on the generated cube (6 mm lift) of about 500k and 2M tetrahedra, one
+the mass spring model and nonlinear FEM (Neo-Hooke, cg amg) on the generated cube (6 mm lift) of about 500k and 2M tetrahedra, one
 thread per rank, serial and `mpiexec -n 2` interleaved, REPS repetitions; per model and phase the
 median time and the ratio one rank / two ranks; then a model of 64 and 1024 ranks built from
 those figures.
@@ -8,7 +8,8 @@ those figures.
 usage: run.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick] [--report-only]
 Writes RESULTS/scaling.md, scaling.csv, scaling.png; the raw figures go to WORK/rows.json, from
 which --report-only writes the report again. Fails if the two ranks' answers differ from the
-serial ones by more than: linear FEM 1e-8 relative (CG to 1e-10), the mass tensor model 0.2 mm
+serial ones by more than: linear and nonlinear FEM 1e-8 relative (CG to 1e-10, Newton to a
+residual of 1e-10), the mass tensor model 0.2 mm
 (each within its 0.1 mm stop distance of the converged answer), the mass spring model 0.1 mm at
 the 95th percentile of the vertices (where springs flip over its equilibrium is not unique).
 """
@@ -25,7 +26,7 @@ options = sys.argv[6:]
 quick = "--quick" in options
 REPS = 1 if quick else 3
 SIZES = [30000] if quick else [500000, 2000000]
-MODELS = ["linear fem", "mass tensor", "mass spring"]
+MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
 env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
@@ -37,7 +38,7 @@ SCENE = """subsection Scene
   end
 end
 subsection Models
-  set Models  = linear fem, mass tensor, mass spring
+  set Models  = linear fem, mass tensor, mass spring, nonlinear fem
   set Threads = 1
 end
 subsection Output
@@ -108,7 +109,8 @@ else:
                 rows.append(r)
                 print(f"{n} tets, rep {rep + 1}, {ranks} rank(s): {r['command s']:.1f} s, CG "
                       f"{r['linear fem/iterations']}, MTM sweeps {r['mass tensor/iterations']}, "
-                      f"MSM sweeps {r['mass spring/iterations']}", flush=True)
+                      f"MSM sweeps {r['mass spring/iterations']}, Newton "
+                      f"{r['nonlinear fem/iterations']}", flush=True)
     with open(rows_file, "w") as f:
         json.dump({"rows": rows, "sizes": SIZES, "reps": REPS}, f)
 
@@ -116,7 +118,7 @@ else:
 # phases are sparsity, assemble, eliminate join DoFs, preconditioner, solve; the distributed
 # one's partition, assemble, preconditioner, solve. The first distributed model partitions the
 # scene for all (linear FEM here); the others show a few ms.
-LF, MT, MS = (f"{m}/" for m in MODELS)
+LF, MT, MS, NF = (f"{m}/" for m in MODELS)
 PHASES = [
     ("scene (mesh, join points; every rank)", ["scene s"], ["scene s"]),
     ("partition (one layout, shared)", [], [LF + "partition", MT + "partition", MS + "partition"]),
@@ -131,6 +133,11 @@ PHASES = [
     ("mass tensor sweeps", [MT + "sweeps"], [MT + "sweeps"]),
     ("mass spring springs (every rank)", [MS + "springs"], [MS + "springs"]),
     ("mass spring sweeps (its solve)", [MS + "solve s"], [MS + "solve s"]),
+    ("nonlinear FEM setup (matrix positions, AMG)", [NF + "matrix positions", NF + "preconditioner"],
+     [NF + "matrix positions", NF + "preconditioner"]),
+    ("nonlinear FEM assembly (Newton's)", [NF + "assembly"], [NF + "assembly"]),
+    ("nonlinear FEM linear solves", [NF + "linear solves"], [NF + "linear solves"]),
+    ("nonlinear FEM Newton solve (its solve)", [NF + "solve s"], [NF + "solve s"]),
     ("whole process", ["process s"], ["process s"]),
 ]
 
@@ -157,14 +164,15 @@ for n in SIZES:
     diffs = {}
     for model in MODELS:
         u1, u2 = np.array(serial[0][model + "/u"]), np.array(two[0][model + "/u"])
-        diffs[model] = (np.abs(u2 - u1).max() / np.abs(u1).max() if model == "linear fem"
+        diffs[model] = (np.abs(u2 - u1).max() / np.abs(u1).max() if model.endswith(" fem")
                         else np.linalg.norm(u2 - u1, axis=1).max())
         if model == "mass spring":
             # Where springs flipped over, the springs' equilibrium is not unique and another
             # sweep order may find another one: its 95th percentile is checked, its largest
             # difference reported.
             diffs["mass spring p95"] = np.percentile(np.linalg.norm(u2 - u1, axis=1), 95)
-    for model, bound in [("linear fem", 1e-8), ("mass tensor", 0.2), ("mass spring p95", 0.1)]:
+    for model, bound in [("linear fem", 1e-8), ("mass tensor", 0.2), ("mass spring p95", 0.1),
+                         ("nonlinear fem", 1e-8)]:
         if diffs[model] > bound:
             sys.exit(f"scaling: at {n} tetrahedra {model} on two ranks differs from one rank by "
                      f"{diffs[model]:.2e} (bound {bound})")
@@ -292,18 +300,20 @@ md = ["# Strong scaling: one MPI rank against two", "",
       f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
       f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), linear FEM `cg amg` "
       "to 1e-10, the mass tensor model (default stop) and the mass spring model (default "
-      "threshold), one thread per rank (`Models/Threads = 1`), serial and `mpiexec -n 2` "
+      "threshold) and nonlinear FEM (Neo-Hooke, `cg amg`, Newton to 1e-10), one thread per rank (`Models/Threads = 1`), serial and `mpiexec -n 2` "
       f"interleaved, {REPS} repetition(s), medians; times from softface's own phase report (the "
       "slowest rank's), whole process from its wall-time line. Every rank builds the whole scene, "
       "and the tensors and springs (serial steps of issue 20's design so far); the partition is "
-      "made once and shared by the three models. CSV: [scaling.csv](scaling.csv).", ""]
+      "made once and shared by the four models. CSV: [scaling.csv](scaling.csv).", ""]
 for t in table:
     its = t["iterations"]
     md += [f"## {t['tets']} tetrahedra, {t['vertices']} vertices", "",
            f"- CG iterations: 1 rank {its['linear fem'][0]}, 2 ranks {its['linear fem'][1]}; "
            f"mass tensor sweeps {its['mass tensor'][0]} and {its['mass tensor'][1]}; mass spring "
-           f"sweeps {its['mass spring'][0]} and {its['mass spring'][1]}.",
-           f"- Two ranks against one: linear FEM {t['diffs']['linear fem']:.1e} relative, mass "
+           f"sweeps {its['mass spring'][0]} and {its['mass spring'][1]}; Newton iterations "
+           f"{its['nonlinear fem'][0]} and {its['nonlinear fem'][1]}.",
+           f"- Two ranks against one: linear FEM {t['diffs']['linear fem']:.1e} relative, "
+           f"nonlinear FEM {t['diffs']['nonlinear fem']:.1e} relative, mass "
            f"tensor {t['diffs']['mass tensor']:.3f} mm (largest difference of a vertex), mass spring "
            f"{t['diffs']['mass spring p95']:.3f} mm at the 95th percentile of the vertices and "
            f"{t['diffs']['mass spring']:.3f} mm at most: its springs flipped over in "

@@ -40,6 +40,27 @@ namespace softface
     // Zeroing compresses the matrix, which settles its storage (deal.II
     // optimises it then): the positions set_cells() finds stay valid.
     tangent = 0.;
+
+    // Which rows and columns are join DoFs, found once (the elimination
+    // runs at every Newton iteration).
+    const auto &matrix = tangent.trilinos_matrix();
+    row_serial_dof.resize(matrix.NumMyRows());
+    row_is_join.resize(matrix.NumMyRows());
+    diagonal_column.resize(matrix.NumMyRows());
+    for (int r = 0; r < matrix.NumMyRows(); ++r)
+      {
+        const auto dof    = TrilinosWrappers::global_row_index(matrix, r);
+        row_serial_dof[r] = layout.serial_dof(dof);
+        row_is_join[r]    = layout.is_join_dof(dof);
+        diagonal_column[r] =
+          matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(dof));
+      }
+    // Every column of an owned row is a locally relevant DoF (a cell at an
+    // owned vertex is an owned or a ghost cell).
+    column_is_join.resize(matrix.NumMyCols());
+    for (int c = 0; c < matrix.NumMyCols(); ++c)
+      column_is_join[c] =
+        layout.is_join_dof(TrilinosWrappers::global_column_index(matrix, c));
   }
 
   void
@@ -141,53 +162,44 @@ namespace softface
     const IndexSet               &owned = layout.locally_owned_dofs;
     TrilinosWrappers::MPI::Vector d(owned, comm), Kd(owned, comm),
       rhs_owned(owned, comm);
-    for (const auto dof : owned)
-      if (layout.is_join_dof(dof))
-        d[dof] = join_increment[layout.serial_dof(dof)];
-    d.compress(VectorOperation::insert);
+    // By this rank's rows (the vectors' and the matrix's local order).
+    double *const d_local   = d.trilinos_vector()[0];
+    double *const Kd_local  = Kd.trilinos_vector()[0];
+    double *const rhs_local = rhs_owned.trilinos_vector()[0];
+    const int     n_rows    = row_serial_dof.size();
+    for (int r = 0; r < n_rows; ++r)
+      if (row_is_join[r])
+        d_local[r] = join_increment[row_serial_dof[r]];
     tangent.vmult(Kd, d);
-    for (const auto dof : owned)
-      {
-        const auto serial = layout.serial_dof(dof);
-        if (layout.is_join_dof(dof))
-          {
-            const double diagonal = tangent.diag_element(dof);
-            rhs_owned[dof] =
-              (diagonal != 0. ? std::abs(diagonal) : 1.) * d[dof];
-          }
-        else
-          rhs_owned[dof] = -(Kd[dof] + residual[serial]);
-      }
-    rhs_owned.compress(VectorOperation::insert);
-    rhs = layout.gather(rhs_owned);
 
     // The elimination in place, row by row of this rank's rows, as
-    // ConstrainedSystem::eliminate_join_dofs() does on the serial matrix.
-    // Every column of an owned row is a locally relevant DoF (a cell at an
-    // owned vertex is an owned or a ghost cell).
+    // ConstrainedSystem::eliminate_join_dofs() does on the serial matrix;
+    // the join rows' right-hand side scaled by their diagonal before.
     auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
-    for (int local_row = 0; local_row < matrix.NumMyRows(); ++local_row)
+    for (int r = 0; r < n_rows; ++r)
       {
-        const types::global_dof_index row =
-          TrilinosWrappers::global_row_index(matrix, local_row);
-        const bool join_row = layout.is_join_dof(row);
-        int        n_entries;
-        double    *values;
-        int       *columns;
-        matrix.ExtractMyRowView(local_row, n_entries, values, columns);
-        for (int k = 0; k < n_entries; ++k)
+        int     n_entries;
+        double *values;
+        int    *columns;
+        matrix.ExtractMyRowView(r, n_entries, values, columns);
+        if (!row_is_join[r])
           {
-            const types::global_dof_index column =
-              TrilinosWrappers::global_column_index(matrix, columns[k]);
-            if (column == row)
-              {
-                if (join_row)
-                  values[k] = values[k] != 0. ? std::abs(values[k]) : 1.;
-              }
-            else if (join_row || layout.is_join_dof(column))
-              values[k] = 0.;
+            rhs_local[r] = -(Kd_local[r] + residual[row_serial_dof[r]]);
+            for (int k = 0; k < n_entries; ++k)
+              if (column_is_join[columns[k]])
+                values[k] = 0.;
+            continue;
           }
+        for (int k = 0; k < n_entries; ++k)
+          if (columns[k] == diagonal_column[r])
+            {
+              values[k]    = values[k] != 0. ? std::abs(values[k]) : 1.;
+              rhs_local[r] = values[k] * d_local[r];
+            }
+          else
+            values[k] = 0.;
       }
+    rhs = layout.gather(rhs_owned);
   }
 
   void

@@ -115,6 +115,13 @@ namespace softface
     /// columns q in that row's values.
     std::vector<int> cell_row;
     std::vector<int> cell_entry;
+    /// By this rank's rows: the serial DoF, whether it is a join DoF, and
+    /// the diagonal's column (local numbers); by the matrix's columns:
+    /// whether they are join DoFs.
+    std::vector<types::global_dof_index> row_serial_dof;
+    std::vector<char>                    row_is_join;
+    std::vector<int>                     diagonal_column;
+    std::vector<char>                    column_is_join;
     /// The values of each of this rank's rows in the Trilinos matrix (its
     /// storage does not move once the pattern is set).
     std::vector<double *>                              row_values;
