@@ -12,12 +12,15 @@
 // - two tissues under gravity;
 // - a motion large enough that load steps fail and are cut back (each
 //   failure decided alike on all ranks);
-// and what is not distributed (St. Venant-Kirchhoff's stability test, the
-// direct solver) runs whole on every rank and says so. A solve that cannot
-// reach its load fails on every rank with the same message.
+// the quadratic reference model (its own layout on the ranks' mesh) on the
+// cube and on two tissues under gravity, and its degree-1 form against the
+// P1 model on the ranks; and what is not distributed (St. Venant-Kirchhoff's
+// stability test, the direct solver) runs whole on every rank and says so. A
+// solve that cannot reach its load fails on every rank with the same message.
 
 #include <softface/core/error.h>
 #include <softface/models/nonlinear_fem.h>
+#include <softface/models/reference_fem.h>
 
 #include "effects.h"
 #include "peer.h"
@@ -34,6 +37,8 @@ namespace
     std::string solver            = "cg amg";
     std::string minimum_increment = "0.001";
     std::string partitioner       = "cell order";
+    /// The reference model of this degree instead (0: nonlinear fem).
+    unsigned int reference_degree = 0;
     /// The join DoFs' motion at a load (null: the final one scaled).
     std::function<Vector<double>(double)> path;
   };
@@ -52,14 +57,26 @@ namespace
         const Options        &options)
   {
     ParameterHandler prm;
-    Models::NonlinearFEM::declare_parameters(prm);
+    Models::ReferenceFEM::declare_parameters(prm);
     prm.set("Material law", options.law);
     prm.set("Solver", options.solver);
     prm.set("Indefinite tangent", "cut back");
     prm.set("Linear tolerance", "1e-8");
     prm.set("Minimum load increment", options.minimum_increment);
-    Models::NonlinearFEM model;
-    model.parse_parameters(prm);
+    std::unique_ptr<Models::NonlinearElasticity> model_pointer;
+    if (options.reference_degree > 0)
+      {
+        auto reference = std::make_unique<Models::ReferenceFEM>();
+        reference->parse_parameters(prm);
+        reference->set_degree(options.reference_degree);
+        model_pointer = std::move(reference);
+      }
+    else
+      {
+        model_pointer = std::make_unique<Models::NonlinearFEM>();
+        model_pointer->parse_parameters(prm);
+      }
+    Models::NonlinearElasticity &model = *model_pointer;
     model.set_communicator(communicator);
     model.set_shared_layout(std::make_shared<SharedDistributedLayout>(
       communicator, DistributedLayout::parse_partitioner(options.partitioner)));
@@ -159,6 +176,36 @@ SOFTFACE_TEST(distributed_nonlinear_fem)
   make_cube_scene(coarse, 3000);
   const Vector<double> far = move_bone(coarse, Point<3>(0, 0, 20), 60.);
   compare("coarse cube, lifted 20 mm and turned 60 degrees", coarse, far);
+
+  // The quadratic reference (its own layout of quadratic tetrahedra on the
+  // ranks' mesh) and, as a cross-check, its degree-1 form, which equals the
+  // P1 model's answer.
+  {
+    Scene small;
+    make_cube_scene(small, 3000);
+    const Vector<double> small_turned =
+      move_bone(small, Point<3>(3, 0, 1), 10.);
+    Options quadratic;
+    quadratic.reference_degree = 2;
+    compare("reference fem, quadratic, cube, turned",
+            small,
+            small_turned,
+            quadratic);
+    compare("reference fem, quadratic, two tissues under gravity",
+            layered,
+            move_bone(layered, Point<3>(0, 0, 4)),
+            quadratic);
+    Options linear_elements;
+    linear_elements.reference_degree = 1;
+    const Outcome p1_reference =
+      solve(MPI_COMM_WORLD, small, small_turned, linear_elements);
+    const Outcome p1 = solve(MPI_COMM_WORLD, small, small_turned, Options());
+    deallog << "reference fem, degree 1, on the ranks: MPI ranks "
+            << p1_reference.ranks_detail << std::endl;
+    check_below("  relative difference to nonlinear fem on the ranks",
+                relative_difference(p1_reference.u, p1.u),
+                1e-8);
+  }
 
   // Not distributed: whole on every rank, the same answer.
   {

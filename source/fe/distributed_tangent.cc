@@ -1,6 +1,7 @@
 // The Newton tangent and forces of a nonlinear FEM model on several MPI ranks
-// (issue 20): cells added on their rank, the tangent a Trilinos matrix, the
-// join DoFs eliminated in place and CG with ML. See fe/distributed_tangent.h.
+// (issue 20): cells added on the ranks that own their rows, the tangent a
+// Trilinos matrix, the join DoFs eliminated in place and CG with ML. See
+// fe/distributed_tangent.h.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/trilinos_index_access.h>
@@ -10,6 +11,8 @@
 #include <softface/fe/distributed_tangent.h>
 
 #include <Epetra_CrsMatrix.h>
+#include <Epetra_MultiVector.h>
+#include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -17,26 +20,40 @@
 namespace softface
 {
   DistributedTangent::DistributedTangent(
-    const DistributedLayout        &layout,
-    const LinearSolver::Parameters &parameters)
-      : layout(layout)
+    const DoFHandler<3>                        &dof_handler,
+    const std::vector<types::global_dof_index> &serial_dof_of_relevant,
+    const std::vector<bool>                    &serial_is_join,
+    const std::vector<Point<3>>                &serial_points,
+    const std::vector<unsigned int>            &serial_component,
+    const LinearSolver::Parameters             &parameters)
+      : communicator(dof_handler.get_communicator())
+      , locally_owned_dofs(dof_handler.locally_owned_dofs())
+      , n_serial_dofs(serial_is_join.size())
       , parameters(parameters)
   {
-    const MPI_Comm comm = layout.communicator;
+    IndexSet relevant;
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
+    AssertThrow(relevant.n_elements() == serial_dof_of_relevant.size(),
+                ExcInternalError());
+    const auto serial_dof = [&](const types::global_dof_index dof) {
+      return serial_dof_of_relevant[relevant.index_within_set(dof)];
+    };
+
     // Every coupling of the layout, join DoFs included: the right-hand side
     // needs the join columns before they are eliminated.
-    TrilinosWrappers::SparsityPattern sparsity(layout.locally_owned_dofs,
-                                               layout.locally_owned_dofs,
-                                               layout.locally_relevant_dofs,
-                                               comm);
-    DoFTools::make_sparsity_pattern(layout.dof_handler,
+    TrilinosWrappers::SparsityPattern sparsity(locally_owned_dofs,
+                                               locally_owned_dofs,
+                                               relevant,
+                                               communicator);
+    DoFTools::make_sparsity_pattern(dof_handler,
                                     sparsity,
                                     AffineConstraints<double>(),
                                     /*keep_constrained_dofs=*/true,
-                                    Utilities::MPI::this_mpi_process(comm));
+                                    Utilities::MPI::this_mpi_process(
+                                      communicator));
     sparsity.compress();
     tangent.reinit(sparsity);
-    forces.reinit(layout.locally_owned_dofs, comm);
+    forces.reinit(locally_owned_dofs, communicator);
     // Zeroing compresses the matrix, which settles its storage (deal.II
     // optimises it then): the positions set_cells() finds stay valid.
     tangent = 0.;
@@ -44,43 +61,55 @@ namespace softface
     // Which rows and columns are join DoFs, found once (the elimination
     // runs at every Newton iteration).
     const auto &matrix = tangent.trilinos_matrix();
+    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
+                ExcInternalError());
     row_serial_dof.resize(matrix.NumMyRows());
     row_is_join.resize(matrix.NumMyRows());
     diagonal_column.resize(matrix.NumMyRows());
+    owned_points.resize(matrix.NumMyRows());
+    owned_component.resize(matrix.NumMyRows());
     for (int r = 0; r < matrix.NumMyRows(); ++r)
       {
         const auto dof    = TrilinosWrappers::global_row_index(matrix, r);
-        row_serial_dof[r] = layout.serial_dof(dof);
-        row_is_join[r]    = layout.is_join_dof(dof);
+        row_serial_dof[r] = serial_dof(dof);
+        row_is_join[r]    = serial_is_join[row_serial_dof[r]];
         diagonal_column[r] =
           matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(dof));
+        owned_points[r]    = serial_points[row_serial_dof[r]];
+        owned_component[r] = serial_component[row_serial_dof[r]];
       }
     // Every column of an owned row is a locally relevant DoF (a cell at an
-    // owned vertex is an owned or a ghost cell).
+    // owned DoF is an owned or a ghost cell).
     column_is_join.resize(matrix.NumMyCols());
     for (int c = 0; c < matrix.NumMyCols(); ++c)
-      column_is_join[c] =
-        layout.is_join_dof(TrilinosWrappers::global_column_index(matrix, c));
+      column_is_join[c] = serial_is_join[serial_dof(
+        TrilinosWrappers::global_column_index(matrix, c))];
+    // As the serial LinearSolver: rotations about the centroid of the DoF
+    // points (every rank holds them all).
+    for (const auto &p : serial_points)
+      centroid += p;
+    centroid /= std::max<std::size_t>(serial_points.size(), 1);
   }
 
   void
   DistributedTangent::set_cells(
-    const std::vector<std::array<types::global_dof_index, 12>> &cell_dofs)
+    const std::vector<types::global_dof_index> &cell_dofs,
+    const unsigned int                          n)
   {
-    const auto &matrix = tangent.trilinos_matrix();
-    // A row's place among this rank's rows is its place in the forces too.
-    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
-                ExcInternalError());
-    cell_row.assign(12 * cell_dofs.size(), -1);
-    cell_entry.assign(144 * cell_dofs.size(), -1);
-    for (unsigned int c = 0; c < cell_dofs.size(); ++c)
-      for (unsigned int r = 0; r < 12; ++r)
+    const auto &matrix         = tangent.trilinos_matrix();
+    dofs_per_cell              = n;
+    const unsigned int n_cells = cell_dofs.size() / n;
+    cell_row.assign(n * n_cells, -1);
+    cell_entry.assign(n * n * n_cells, -1);
+    for (unsigned int c = 0; c < n_cells; ++c)
+      for (unsigned int r = 0; r < n; ++r)
         {
-          const int local_row = matrix.LRID(
-            static_cast<TrilinosWrappers::types::int_type>(cell_dofs[c][r]));
+          const int local_row =
+            matrix.LRID(static_cast<TrilinosWrappers::types::int_type>(
+              cell_dofs[n * c + r]));
           if (local_row < 0)
             continue;
-          cell_row[12 * c + r] = local_row;
+          cell_row[n * c + r] = local_row;
           int     n_entries;
           double *values;
           int    *columns;
@@ -88,16 +117,16 @@ namespace softface
                                                                   n_entries,
                                                                   values,
                                                                   columns);
-          for (unsigned int q = 0; q < 12; ++q)
+          for (unsigned int q = 0; q < n; ++q)
             {
               const int column =
                 matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
-                  cell_dofs[c][q]));
+                  cell_dofs[n * c + q]));
               const int *found =
                 std::find(columns, columns + n_entries, column);
               AssertThrow(column >= 0 && found != columns + n_entries,
                           ExcInternalError());
-              cell_entry[144 * c + 12 * r + q] = found - columns;
+              cell_entry[n * n * c + n * r + q] = found - columns;
             }
         }
   }
@@ -109,9 +138,7 @@ namespace softface
     forces       = 0.;
     if (!with_tangent)
       return;
-    tangent = 0.;
-    // Where each row's values are now (looked up again after every
-    // compression, which may move them).
+    tangent      = 0.;
     auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
     row_values.resize(matrix.NumMyRows());
     for (int local_row = 0; local_row < matrix.NumMyRows(); ++local_row)
@@ -126,9 +153,32 @@ namespace softface
   }
 
   void
+  DistributedTangent::add_cell(const unsigned int        cell,
+                               const Vector<double>     &cell_forces,
+                               const FullMatrix<double> &cell_tangent)
+  {
+    const unsigned int n            = dofs_per_cell;
+    double            *owned_forces = forces.trilinos_vector()[0];
+    for (unsigned int r = 0; r < n; ++r)
+      {
+        const int local_row = cell_row[n * cell + r];
+        if (local_row < 0)
+          continue;
+        owned_forces[local_row] += cell_forces[r];
+        if (!with_tangent)
+          continue;
+        double    *values = row_values[local_row];
+        const int *entry  = &cell_entry[n * n * cell + n * r];
+        for (unsigned int q = 0; q < n; ++q)
+          values[entry[q]] += cell_tangent(r, q);
+      }
+  }
+
+  void
   DistributedTangent::add_cell(const unsigned int            cell,
                                const Elasticity::P1Response &response)
   {
+    Assert(dofs_per_cell == 12, ExcInternalError());
     double *owned_forces = forces.trilinos_vector()[0];
     for (unsigned int r = 0; r < 12; ++r)
       {
@@ -146,10 +196,24 @@ namespace softface
       }
   }
 
+  Vector<double>
+  DistributedTangent::gather(
+    const TrilinosWrappers::MPI::Vector &owned_values) const
+  {
+    // Each rank writes its entries into a zero serial vector; the sum over
+    // the ranks is the whole vector, since every DoF has one owner.
+    Vector<double> serial(n_serial_dofs);
+    const double  *local = owned_values.trilinos_vector()[0];
+    for (unsigned int r = 0; r < row_serial_dof.size(); ++r)
+      serial[row_serial_dof[r]] = local[r];
+    Utilities::MPI::sum(serial, communicator, serial);
+    return serial;
+  }
+
   void
   DistributedTangent::end_assembly(Vector<double> &serial_forces)
   {
-    serial_forces = layout.gather(forces);
+    serial_forces = gather(forces);
   }
 
   void
@@ -158,10 +222,9 @@ namespace softface
     const Vector<double> &residual,
     Vector<double>       &rhs)
   {
-    const MPI_Comm                comm  = layout.communicator;
-    const IndexSet               &owned = layout.locally_owned_dofs;
-    TrilinosWrappers::MPI::Vector d(owned, comm), Kd(owned, comm),
-      rhs_owned(owned, comm);
+    TrilinosWrappers::MPI::Vector d(locally_owned_dofs, communicator),
+      Kd(locally_owned_dofs, communicator),
+      rhs_owned(locally_owned_dofs, communicator);
     // By this rank's rows (the vectors' and the matrix's local order).
     double *const d_local   = d.trilinos_vector()[0];
     double *const Kd_local  = Kd.trilinos_vector()[0];
@@ -199,7 +262,7 @@ namespace softface
           else
             values[k] = 0.;
       }
-    rhs = layout.gather(rhs_owned);
+    rhs = gather(rhs_owned);
   }
 
   void
@@ -211,7 +274,10 @@ namespace softface
     // were estimated for, and CG found negative curvature).
     amg_matrix.copy_from(tangent);
     amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-    DistributedElasticity::build_amg(layout, parameters, amg_matrix, *amg);
+    Teuchos::ParameterList list;
+    const auto             null_space = LinearSolver::amg_parameters(
+      parameters, amg_matrix, owned_points, owned_component, centroid, list);
+    amg->initialize(amg_matrix, list);
     ++amg_builds;
   }
 
@@ -220,10 +286,11 @@ namespace softface
   {
     Assert(amg != nullptr,
            ExcMessage("DistributedTangent::build_amg() first."));
-    const MPI_Comm                comm = layout.communicator;
-    TrilinosWrappers::MPI::Vector b(layout.locally_owned_dofs, comm),
-      x(layout.locally_owned_dofs, comm);
-    layout.scatter(rhs, b);
+    TrilinosWrappers::MPI::Vector b(locally_owned_dofs, communicator),
+      x(locally_owned_dofs, communicator);
+    double *const b_local = b.trilinos_vector()[0];
+    for (unsigned int r = 0; r < row_serial_dof.size(); ++r)
+      b_local[r] = rhs[row_serial_dof[r]];
     // The serial solver's tolerance: relative to the whole right-hand side
     // (every rank holds it).
     const double tolerance = parameters.relative_tolerance * rhs.l2_norm();
@@ -257,11 +324,11 @@ namespace softface
         else if (result.iterations > parameters.amg_rebuild_iterations)
           build_amg();
       }
-    TrilinosWrappers::MPI::Vector r(layout.locally_owned_dofs, comm);
+    TrilinosWrappers::MPI::Vector r(locally_owned_dofs, communicator);
     tangent.vmult(r, x);
     r -= b;
     result.relative_residual = r.l2_norm() / std::max(rhs.l2_norm(), 1e-300);
-    du                       = layout.gather(x);
+    du                       = gather(x);
     return result;
   }
 

@@ -13,6 +13,7 @@
 #include <softface/fe/row_partition.h>
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <vector>
 
@@ -171,6 +172,55 @@ namespace softface
     }
 
     bool
+    cell_response(const MaterialLaw::Law           law,
+                  const Lame                      &lame,
+                  const FEValues<3>               &fe_values,
+                  const std::vector<unsigned int> &component,
+                  const std::vector<double>       &u_cell,
+                  Vector<double>                  &f_cell,
+                  FullMatrix<double>              *K_cell)
+    {
+      const unsigned int n = u_cell.size();
+      // Up to quadratic tetrahedra: 30 DoFs (no allocation per cell).
+      std::array<Tensor<1, 3>, 30> grad;
+      AssertThrow(n <= grad.size(), ExcNotImplemented());
+      Tensor<2, 3> P;
+      Tensor<4, 3> A;
+      f_cell = 0;
+      if (K_cell != nullptr)
+        *K_cell = 0;
+      for (unsigned int q = 0; q < fe_values.n_quadrature_points; ++q)
+        {
+          Tensor<2, 3> F = unit_symmetric_tensor<3>();
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              grad[i] = fe_values.shape_grad(i, q);
+              F[component[i]] += u_cell[i] * grad[i];
+            }
+          if (!MaterialLaw::first_piola_kirchhoff(
+                law, lame, F, P, K_cell != nullptr ? &A : nullptr))
+            return false;
+          const double JxW = fe_values.JxW(q);
+          for (unsigned int i = 0; i < n; ++i)
+            f_cell[i] += (P[component[i]] * grad[i]) * JxW;
+          if (K_cell == nullptr)
+            continue;
+          // K_ij = grad_i . A[c_i][.][c_j][.] . grad_j, contracted with
+          // grad_i first so that the inner loop is three products.
+          for (unsigned int i = 0; i < n; ++i)
+            {
+              Tensor<2, 3> G; // G[k][L] = grad_i[J] A[c_i][J][k][L]
+              for (unsigned int J = 0; J < 3; ++J)
+                G += grad[i][J] * A[component[i]][J];
+              G *= JxW;
+              for (unsigned int j = 0; j < n; ++j)
+                (*K_cell)(i, j) += G[component[j]] * grad[j];
+            }
+        }
+      return true;
+    }
+
+    bool
     assemble(const MaterialLaw::Law            law,
              const std::vector<Lame>          &tissue_lame,
              const std::vector<unsigned char> &tissue_of_cell,
@@ -193,12 +243,9 @@ namespace softface
       std::vector<unsigned int>            component(n);
       for (unsigned int i = 0; i < n; ++i)
         component[i] = fe.system_to_component_index(i).first;
-      std::vector<double>       u_cell(n);
-      std::vector<Tensor<1, 3>> grad(n);
-      Vector<double>            f_cell(n);
-      FullMatrix<double>        K_cell(n, n);
-      Tensor<2, 3>              P;
-      Tensor<4, 3>              A;
+      std::vector<double> u_cell(n);
+      Vector<double>      f_cell(n);
+      FullMatrix<double>  K_cell(n, n);
       // Rows go into the matrix with sorted columns: SparseMatrix::add then
       // merges along the row instead of searching it for every entry.
       std::vector<unsigned int>            order(n);
@@ -218,49 +265,23 @@ namespace softface
                           tissue_of_cell[cell->active_cell_index()]];
           for (unsigned int i = 0; i < n; ++i)
             u_cell[i] = u[dofs[i]];
-          f_cell       = 0;
-          K_cell       = 0;
-          bool refused = false;
-          for (unsigned int q = 0; q < quadrature.size() && !refused; ++q)
+          if (!cell_response(law,
+                             lame,
+                             fe_values,
+                             component,
+                             u_cell,
+                             f_cell,
+                             tangent != nullptr ? &K_cell : nullptr))
             {
-              Tensor<2, 3> F = unit_symmetric_tensor<3>();
-              for (unsigned int i = 0; i < n; ++i)
+              if (may_skip_cell == nullptr ||
+                  !(*may_skip_cell)[cell->active_cell_index()])
                 {
-                  grad[i] = fe_values.shape_grad(i, q);
-                  F[component[i]] += u_cell[i] * grad[i];
+                  if (refused_cell != nullptr)
+                    *refused_cell = cell->active_cell_index();
+                  return false;
                 }
-              if (!MaterialLaw::first_piola_kirchhoff(
-                    law, lame, F, P, tangent != nullptr ? &A : nullptr))
-                {
-                  if (may_skip_cell == nullptr ||
-                      !(*may_skip_cell)[cell->active_cell_index()])
-                    {
-                      if (refused_cell != nullptr)
-                        *refused_cell = cell->active_cell_index();
-                      return false;
-                    }
-                  refused = true;
-                  continue;
-                }
-              const double JxW = fe_values.JxW(q);
-              for (unsigned int i = 0; i < n; ++i)
-                f_cell[i] += (P[component[i]] * grad[i]) * JxW;
-              if (tangent == nullptr)
-                continue;
-              // K_ij = grad_i . A[c_i][.][c_j][.] . grad_j, contracted with
-              // grad_i first so that the inner loop is three products.
-              for (unsigned int i = 0; i < n; ++i)
-                {
-                  Tensor<2, 3> G; // G[k][L] = grad_i[J] A[c_i][J][k][L]
-                  for (unsigned int J = 0; J < 3; ++J)
-                    G += grad[i][J] * A[component[i]][J];
-                  G *= JxW;
-                  for (unsigned int j = 0; j < n; ++j)
-                    K_cell(i, j) += G[component[j]] * grad[j];
-                }
+              continue;
             }
-          if (refused)
-            continue;
           for (unsigned int i = 0; i < n; ++i)
             forces[dofs[i]] += f_cell[i];
           if (tangent == nullptr)

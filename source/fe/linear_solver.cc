@@ -93,11 +93,13 @@ namespace softface
   }
 
   void
-  LinearSolver::initialize(const Parameters &parameters, const Scene &scene)
+  LinearSolver::scene_dof_points(const Scene               &scene,
+                                 std::vector<Point<3>>     &points,
+                                 std::vector<unsigned int> &component)
   {
-    const unsigned int        n = scene.dof_handler.n_dofs();
-    std::vector<Point<3>>     points(n);
-    std::vector<unsigned int> component(n, numbers::invalid_unsigned_int);
+    const unsigned int n = scene.dof_handler.n_dofs();
+    points.assign(n, Point<3>());
+    component.assign(n, numbers::invalid_unsigned_int);
     for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
       if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
         for (unsigned int c = 0; c < 3; ++c)
@@ -106,6 +108,14 @@ namespace softface
               scene.triangulation.get_vertices()[v];
             component[scene.vertex_dofs()[v][c]] = c;
           }
+  }
+
+  void
+  LinearSolver::initialize(const Parameters &parameters, const Scene &scene)
+  {
+    std::vector<Point<3>>     points;
+    std::vector<unsigned int> component;
+    scene_dof_points(scene, points, component);
     initialize(parameters, points, component);
   }
 

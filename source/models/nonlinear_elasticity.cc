@@ -101,9 +101,10 @@ namespace softface
     void
     NonlinearElasticity::do_setup(const Scene &scene_in)
     {
-      scene        = &scene_in;
-      body_force   = nullptr;
-      ranks_layout = nullptr;
+      scene             = &scene_in;
+      body_force        = nullptr;
+      ranks_layout      = nullptr;
+      ranks_dof_handler = nullptr;
       distributed_tangent.reset();
       dof_points.clear();
       dof_component.clear();
@@ -114,12 +115,22 @@ namespace softface
       if (ranks_layout != nullptr)
         {
           {
-            const auto timed = phase("matrix positions");
+            const auto                timed     = phase("matrix positions");
+            std::vector<Point<3>>     points    = dof_points;
+            std::vector<unsigned int> component = dof_component;
+            if (points.empty())
+              LinearSolver::scene_dof_points(*scene, points, component);
             distributed_tangent =
-              std::make_unique<DistributedTangent>(*ranks_layout,
+              std::make_unique<DistributedTangent>(*ranks_dof_handler,
+                                                   ranks_serial_dofs,
+                                                   is_join,
+                                                   points,
+                                                   component,
                                                    solver_parameters);
-            distributed_tangent->set_cells(ranks_cell_dofs);
-            ranks_cell_dofs = {};
+            distributed_tangent->set_cells(ranks_cell_dofs,
+                                           ranks_dofs_per_cell);
+            ranks_cell_dofs   = {};
+            ranks_serial_dofs = {};
           }
           // ML on the tangent at rest, as on one rank.
           const auto     timed = phase("preconditioner");

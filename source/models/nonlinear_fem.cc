@@ -66,17 +66,22 @@ namespace softface
       if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
           why_not_on_ranks().empty())
         {
-          const auto timed = phase("partition");
-          ranks_layout     = &distributed_layout(*scene);
+          const auto timed  = phase("partition");
+          ranks_layout      = &distributed_layout(*scene);
+          ranks_dof_handler = &ranks_layout->dof_handler;
+          ranks_serial_dofs.clear();
+          for (const auto dof : ranks_layout->locally_relevant_dofs)
+            ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
           // Its own cells and the ghost cells at its DoFs: each rank adds
           // its own rows only (DistributedTangent::set_cells()).
           ranks_cell_dofs.clear();
+          ranks_dofs_per_cell = 12;
+          std::array<types::global_dof_index, 12> dofs;
           for (const auto &cell :
                ranks_layout->dof_handler.active_cell_iterators())
             if (!cell->is_artificial())
               {
-                std::array<types::global_dof_index, 12> dofs;
-                bool                                    at_own_dof = false;
+                bool at_own_dof = false;
                 for (unsigned int a = 0; a < 4; ++a)
                   for (unsigned int i = 0; i < 3; ++i)
                     {
@@ -88,7 +93,9 @@ namespace softface
                   continue;
                 rank_cells.push_back(
                   ranks_layout->serial_cell(cell)->active_cell_index());
-                ranks_cell_dofs.push_back(dofs);
+                ranks_cell_dofs.insert(ranks_cell_dofs.end(),
+                                       dofs.begin(),
+                                       dofs.end());
               }
           return;
         }

@@ -153,10 +153,19 @@ namespace softface
           all_join_cell[cell->active_cell_index()] = all;
         }
 
-      DynamicSparsityPattern dsp(n, n);
-      DoFTools::make_sparsity_pattern(*dof_handler, dsp);
-      sparsity.copy_from(dsp);
       add_detail("degree", degree);
+      rank_cells.clear();
+      rank_cell_serial_dofs.clear();
+      ranks_dofs.reset();
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
+          why_not_on_ranks().empty())
+        setup_ranks();
+      else
+        {
+          DynamicSparsityPattern dsp(n, n);
+          DoFTools::make_sparsity_pattern(*dof_handler, dsp);
+          sparsity.copy_from(dsp);
+        }
 
       // The effects: each tissue's Lame coefficients, and the body force
       // integrated against this layout's shape functions.
@@ -172,6 +181,117 @@ namespace softface
                                           layout_body_force);
           body_force = &layout_body_force;
         }
+    }
+
+    void
+    ReferenceFEM::setup_ranks()
+    {
+      ranks_layout = &distributed_layout(*scene);
+      ranks_dofs = std::make_unique<DoFHandler<3>>(ranks_layout->triangulation);
+      ranks_dofs->distribute_dofs(*fe);
+      ranks_dof_handler = ranks_dofs.get();
+      IndexSet relevant;
+      DoFTools::extract_locally_relevant_dofs(*ranks_dofs, relevant);
+      const IndexSet &owned = ranks_dofs->locally_owned_dofs();
+      ranks_serial_dofs.assign(relevant.n_elements(),
+                               numbers::invalid_dof_index);
+      ranks_dofs_per_cell = fe->n_dofs_per_cell();
+      ranks_cell_dofs.clear();
+
+      // A cell of the layout is the scene's cell with the same vertices in
+      // the same order (DistributedLayout::serial_cell()), and a quadratic
+      // element has one DoF per edge and component: the same local DoF is
+      // the same DoF. Checked by the DoFs' support points.
+      const auto        &unit_points = fe->get_unit_support_points();
+      const unsigned int n           = ranks_dofs_per_cell;
+      std::vector<types::global_dof_index> dofs(n), serial_dofs(n);
+      for (const auto &cell : ranks_dofs->active_cell_iterators())
+        if (!cell->is_artificial())
+          {
+            const auto serial = ranks_layout->serial_cell(cell);
+            const DoFHandler<3>::active_cell_iterator serial_cell(
+              &scene->triangulation,
+              serial->level(),
+              serial->index(),
+              dof_handler.get());
+            cell->get_dof_indices(dofs);
+            serial_cell->get_dof_indices(serial_dofs);
+            bool at_own_dof = false;
+            for (unsigned int i = 0; i < n; ++i)
+              {
+                const Point<3> &xi = unit_points[i];
+                Point<3> x = (1. - xi[0] - xi[1] - xi[2]) * cell->vertex(0);
+                for (unsigned int a = 1; a < 4; ++a)
+                  x += xi[a - 1] * cell->vertex(a);
+                AssertThrow(x.distance(dof_points[serial_dofs[i]]) <=
+                              1e-9 * (1. + x.norm()),
+                            ExcInternalError());
+                ranks_serial_dofs[relevant.index_within_set(dofs[i])] =
+                  serial_dofs[i];
+                at_own_dof |= owned.is_element(dofs[i]);
+              }
+            if (!at_own_dof)
+              continue;
+            rank_cells.push_back(cell);
+            ranks_cell_dofs.insert(ranks_cell_dofs.end(),
+                                   dofs.begin(),
+                                   dofs.end());
+            rank_cell_serial_dofs.insert(rank_cell_serial_dofs.end(),
+                                         serial_dofs.begin(),
+                                         serial_dofs.end());
+          }
+    }
+
+    bool
+    ReferenceFEM::evaluate_on_ranks(const Vector<double> &u,
+                                    Vector<double>       &forces,
+                                    const bool            with_tangent) const
+    {
+      distributed_tangent->begin_assembly(with_tangent);
+      // The serial evaluation's rule (evaluate()).
+      FEValues<3>               fe_values(scene->mapping,
+                            *fe,
+                            QGaussSimplex<3>(3),
+                            update_gradients | update_JxW_values);
+      const unsigned int        n = fe->n_dofs_per_cell();
+      std::vector<unsigned int> component(n);
+      for (unsigned int i = 0; i < n; ++i)
+        component[i] = fe->system_to_component_index(i).first;
+      std::vector<double> u_cell(n);
+      Vector<double>      f_cell(n);
+      FullMatrix<double>  K_cell(n, n);
+      const auto         &tissue_of_cell = scene->effects.tissue_of_cell;
+      // The first refused cell in the scene's order, as on one rank.
+      unsigned int refused = numbers::invalid_unsigned_int;
+      for (unsigned int k = 0; k < rank_cells.size(); ++k)
+        {
+          const auto        &cell = rank_cells[k];
+          const unsigned int c =
+            ranks_layout->serial_cell(cell)->active_cell_index();
+          fe_values.reinit(cell);
+          for (unsigned int i = 0; i < n; ++i)
+            u_cell[i] = u[rank_cell_serial_dofs[n * k + i]];
+          const Lame &lame =
+            tissue_lame[tissue_of_cell.empty() ? 0 : tissue_of_cell[c]];
+          if (Elasticity::cell_response(law,
+                                        lame,
+                                        fe_values,
+                                        component,
+                                        u_cell,
+                                        f_cell,
+                                        with_tangent ? &K_cell : nullptr))
+            distributed_tangent->add_cell(k, f_cell, K_cell);
+          else if (!all_join_cell[c])
+            refused = std::min(refused, c);
+        }
+      distributed_tangent->end_assembly(forces);
+      refused = Utilities::MPI::min(refused, communicator);
+      if (refused != numbers::invalid_unsigned_int)
+        {
+          refusal = describe_cell(refused);
+          return false;
+        }
+      return true;
     }
 
     bool

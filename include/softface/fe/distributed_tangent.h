@@ -1,13 +1,13 @@
 #ifndef softface_fe_distributed_tangent_h
 #define softface_fe_distributed_tangent_h
 
+#include <deal.II/dofs/dof_handler.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/lac/vector.h>
 
-#include <softface/core/distributed_layout.h>
 #include <softface/fe/elasticity.h>
 #include <softface/fe/linear_solver.h>
 
@@ -20,15 +20,17 @@ namespace softface
   using namespace dealii;
 
   /**
-   * The Newton tangent and nodal forces of a P1 nonlinear FEM model on a
-   * DistributedLayout (issue 20). The model evaluates the cells at this
-   * rank's DoFs (add_cell()); the tangent stays a Trilinos matrix on the
-   * ranks, the forces come back as the serial vector on every rank.
+   * The Newton tangent and nodal forces of a nonlinear FEM model on several
+   * MPI ranks (issue 20), for any element on a layout's fully distributed
+   * triangulation (the P1 nonlinear FEM model's, the quadratic reference's).
+   * The model evaluates the cells at this rank's DoFs (add_cell()); the
+   * tangent stays a Trilinos matrix on the ranks, the forces come back as
+   * the model's serial vector on every rank.
    *
-   * LoadSteppedNewton keeps its vectors whole on every rank, in the serial
-   * layout: they are a small part of a run's memory (the matrix and its ML
-   * are most of it), and every rank computing the same norms from the same
-   * numbers makes the same decision (line search, load step, cut-back)
+   * LoadSteppedNewton keeps its vectors whole on every rank, in the model's
+   * serial layout: they are a small part of a run's memory (the matrix and
+   * its ML are most of it), and every rank computing the same norms from the
+   * same numbers makes the same decision (line search, load step, cut-back)
    * without a reduction of its own. What a rank does alone is its cells'
    * assembly, its rows of the matrix and its part of each CG iteration.
    *
@@ -41,21 +43,33 @@ namespace softface
   class DistributedTangent
   {
   public:
-    /// Set up the unconstrained sparsity of the layout. Collective.
-    DistributedTangent(const DistributedLayout        &layout,
-                       const LinearSolver::Parameters &parameters);
+    /**
+     * The DoFs of @p dof_handler, on a layout's fully distributed
+     * triangulation: its k-th locally relevant DoF is the model's serial DoF
+     * @p serial_dof_of_relevant[k]. @p serial_is_join are the model's join
+     * DoFs; @p serial_points and @p serial_component its DoFs' support
+     * points and components (ML's rigid-body modes). Sets up the
+     * unconstrained sparsity. Collective.
+     */
+    DistributedTangent(
+      const DoFHandler<3>                        &dof_handler,
+      const std::vector<types::global_dof_index> &serial_dof_of_relevant,
+      const std::vector<bool>                    &serial_is_join,
+      const std::vector<Point<3>>                &serial_points,
+      const std::vector<unsigned int>            &serial_component,
+      const LinearSolver::Parameters             &parameters);
 
     /**
-     * The cells this rank evaluates, by their layout DoFs (vertex by vertex,
-     * component by component): its own cells and the ghost cells at the DoFs
-     * it owns. Each cell adds to the rows this rank owns only, so that no
-     * contribution crosses the ranks; a cell at two ranks' DoFs is
-     * evaluated on both. The matrix positions of every cell's entries are
-     * found here once, as the serial model finds them.
+     * The cells this rank evaluates, by their DoFs (@p dofs_per_cell each,
+     * in the element's order, one after the other): its own cells and the
+     * ghost cells at the DoFs it owns. Each cell adds to the rows this rank
+     * owns only, so that no contribution crosses the ranks; a cell at two
+     * ranks' DoFs is evaluated on both. The matrix positions of every cell's
+     * entries are found here once, as the serial P1 model finds them.
      */
     void
-    set_cells(
-      const std::vector<std::array<types::global_dof_index, 12>> &cell_dofs);
+    set_cells(const std::vector<types::global_dof_index> &cell_dofs,
+              const unsigned int                          dofs_per_cell);
 
     /// Zero the forces and, if @p with_tangent, the tangent.
     void
@@ -63,6 +77,11 @@ namespace softface
 
     /// Add the forces and, if the assembly has one, the tangent of cell
     /// @p cell (its place in set_cells()) on this rank's rows.
+    void
+    add_cell(const unsigned int        cell,
+             const Vector<double>     &cell_forces,
+             const FullMatrix<double> &cell_tangent);
+    /// The same for a P1 cell's closed-form response.
     void
     add_cell(const unsigned int cell, const Elasticity::P1Response &response);
 
@@ -95,26 +114,28 @@ namespace softface
     n_amg_builds() const;
 
   private:
-    /// One CG run of at most @p limit iterations from @p solution.
-    bool
-    iterate(const TrilinosWrappers::MPI::Vector &rhs,
-            TrilinosWrappers::MPI::Vector       &solution,
-            const double                         tolerance,
-            const unsigned int                   limit,
-            LinearSolver::Result                &result);
+    /// The serial vector of this rank's entries @p owned_values (by its
+    /// rows), on every rank. Collective.
+    Vector<double>
+    gather(const TrilinosWrappers::MPI::Vector &owned_values) const;
 
-    const DistributedLayout       &layout;
+    const MPI_Comm                 communicator;
+    const IndexSet                 locally_owned_dofs;
+    const unsigned int             n_serial_dofs;
     const LinearSolver::Parameters parameters;
     TrilinosWrappers::SparseMatrix tangent;
     /// The tangent ML was built on (ML refers to it).
     TrilinosWrappers::SparseMatrix amg_matrix;
     /// The owned entries.
-    TrilinosWrappers::MPI::Vector forces;
-    /// Per cell and local row r (12 each): the row's place among this
-    /// rank's rows (-1 if another rank owns it) and the places of the
-    /// columns q in that row's values.
-    std::vector<int> cell_row;
-    std::vector<int> cell_entry;
+    TrilinosWrappers::MPI::Vector                      forces;
+    bool                                               with_tangent = false;
+    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
+    unsigned int                                       amg_builds = 0;
+    /// ML's null space: this rank's DoFs' points and components, the
+    /// centroid of all the model's DoF points.
+    std::vector<Point<3>>     owned_points;
+    std::vector<unsigned int> owned_component;
+    Point<3>                  centroid;
     /// By this rank's rows: the serial DoF, whether it is a join DoF, and
     /// the diagonal's column (local numbers); by the matrix's columns:
     /// whether they are join DoFs.
@@ -122,12 +143,15 @@ namespace softface
     std::vector<char>                    row_is_join;
     std::vector<int>                     diagonal_column;
     std::vector<char>                    column_is_join;
-    /// The values of each of this rank's rows in the Trilinos matrix (its
-    /// storage does not move once the pattern is set).
-    std::vector<double *>                              row_values;
-    bool                                               with_tangent = false;
-    std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
-    unsigned int                                       amg_builds = 0;
+    /// Per cell and local row r: the row's place among this rank's rows
+    /// (-1 if another rank owns it) and the places of the cell's columns
+    /// in that row's values.
+    unsigned int     dofs_per_cell = 0;
+    std::vector<int> cell_row;
+    std::vector<int> cell_entry;
+    /// The values of each of this rank's rows in the Trilinos matrix (looked
+    /// up after each zeroing, which may move them).
+    std::vector<double *> row_values;
   };
 } // namespace softface
 

@@ -4,7 +4,9 @@
 #include <deal.II/base/quadrature.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping.h>
+#include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 
@@ -104,6 +106,21 @@ namespace softface
      * only, crushed by the planning). On a refusal, @p refused_cell (if not
      * null) is set to the refused cell's active cell index.
      */
+    /**
+     * One cell's nodal forces and, if @p K_cell is not null, its tangent, by
+     * the quadrature @p fe_values was built with (reinitialised on the
+     * cell); @p u_cell holds the cell's DoF values, @p component each DoF's
+     * component. False if the law refuses F at a quadrature point.
+     */
+    bool
+    cell_response(const MaterialLaw::Law           law,
+                  const Lame                      &lame,
+                  const FEValues<3>               &fe_values,
+                  const std::vector<unsigned int> &component,
+                  const std::vector<double>       &u_cell,
+                  Vector<double>                  &f_cell,
+                  FullMatrix<double>              *K_cell);
+
     bool
     assemble(const MaterialLaw::Law            law,
              const std::vector<Lame>          &tissue_lame,

@@ -97,6 +97,13 @@ namespace softface
     void
     initialize(const Parameters &parameters, const Scene &scene);
 
+    /// The support points and components of the scene's shared layout's
+    /// DoFs (its vertices').
+    static void
+    scene_dof_points(const Scene               &scene,
+                     std::vector<Point<3>>     &points,
+                     std::vector<unsigned int> &component);
+
     /**
      * Solve with @p matrix from now on (it is referenced, not copied, until
      * the next call). Jacobi is set up on it, ML built on it unless it was

@@ -143,12 +143,17 @@ namespace softface
       /// On several MPI ranks, the run's layout if setup_layout() chose to
       /// evaluate on the ranks (why_not_on_ranks() empty); then the serial
       /// sparsity is left empty and the tangent lives in
-      /// distributed_tangent.
-      const DistributedLayout            *ranks_layout = nullptr;
-      std::unique_ptr<DistributedTangent> distributed_tangent;
-      /// The layout DoFs of the cells this rank evaluates, for
-      /// DistributedTangent::set_cells() (emptied once it has them).
-      std::vector<std::array<types::global_dof_index, 12>> ranks_cell_dofs;
+      /// distributed_tangent, which do_setup() builds from what
+      /// setup_layout() put in the ranks_* members: the model's DoFs on the
+      /// layout's triangulation, the serial DoF of each locally relevant one
+      /// (in the order of the index set), and the DoFs of the cells this
+      /// rank evaluates (emptied once the tangent has them).
+      const DistributedLayout             *ranks_layout      = nullptr;
+      const DoFHandler<3>                 *ranks_dof_handler = nullptr;
+      std::vector<types::global_dof_index> ranks_serial_dofs;
+      std::vector<types::global_dof_index> ranks_cell_dofs;
+      unsigned int                         ranks_dofs_per_cell = 0;
+      std::unique_ptr<DistributedTangent>  distributed_tangent;
 
     private:
       LoadSteppedNewton::Parameters newton_parameters;

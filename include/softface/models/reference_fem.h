@@ -53,6 +53,11 @@ namespace softface
                Vector<double>       &forces,
                SparseMatrix<double> *tangent) const override;
 
+      bool
+      evaluate_on_ranks(const Vector<double> &u,
+                        Vector<double>       &forces,
+                        const bool            with_tangent) const override;
+
       /// The whole field after solve().
       std::pair<const DoFHandler<3> *, const Vector<double> *>
       displacement_field() const override;
@@ -83,6 +88,16 @@ namespace softface
       std::vector<bool> all_join_cell;
       std::vector<Lame> tissue_lame;
       Vector<double>    layout_body_force;
+
+      /// On several MPI ranks: the model's DoFs on the layout's
+      /// triangulation, the cells this rank evaluates (its own and the
+      /// ghost cells at its DoFs) and their DoFs in the serial layout.
+      std::unique_ptr<DoFHandler<3>>                   ranks_dofs;
+      std::vector<DoFHandler<3>::active_cell_iterator> rank_cells;
+      std::vector<types::global_dof_index>             rank_cell_serial_dofs;
+      /// Build them (setup_layout() on several ranks).
+      void
+      setup_ranks();
     };
   } // namespace Models
 } // namespace softface
