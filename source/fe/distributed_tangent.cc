@@ -100,7 +100,7 @@ namespace softface
     dofs_per_cell              = n;
     const unsigned int n_cells = cell_dofs.size() / n;
     cell_row.assign(n * n_cells, -1);
-    cell_entry.assign(n * n * n_cells, -1);
+    cell_entry.assign(n * n * n_cells, 0);
     for (unsigned int c = 0; c < n_cells; ++c)
       for (unsigned int r = 0; r < n; ++r)
         {
@@ -117,6 +117,7 @@ namespace softface
                                                                   n_entries,
                                                                   values,
                                                                   columns);
+          AssertThrow(n_entries <= 65536, ExcNotImplemented());
           for (unsigned int q = 0; q < n; ++q)
             {
               const int column =
@@ -167,8 +168,8 @@ namespace softface
         owned_forces[local_row] += cell_forces[r];
         if (!with_tangent)
           continue;
-        double    *values = row_values[local_row];
-        const int *entry  = &cell_entry[n * n * cell + n * r];
+        double              *values = row_values[local_row];
+        const std::uint16_t *entry  = &cell_entry[n * n * cell + n * r];
         for (unsigned int q = 0; q < n; ++q)
           values[entry[q]] += cell_tangent(r, q);
       }
@@ -188,8 +189,8 @@ namespace softface
         owned_forces[local_row] += response.force[r / 3][r % 3];
         if (!with_tangent)
           continue;
-        double    *values = row_values[local_row];
-        const int *entry  = &cell_entry[144 * cell + 12 * r];
+        double              *values = row_values[local_row];
+        const std::uint16_t *entry  = &cell_entry[144 * cell + 12 * r];
         for (unsigned int b = 0; b < 4; ++b)
           for (unsigned int j = 0; j < 3; ++j)
             values[*entry++] += response.tangent[r / 3][b][r % 3][j];

@@ -12,6 +12,7 @@
 #include <softface/fe/linear_solver.h>
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -148,7 +149,8 @@ namespace softface
     /// in that row's values.
     unsigned int     dofs_per_cell = 0;
     std::vector<int> cell_row;
-    std::vector<int> cell_entry;
+    /// (16 bits: a row has far fewer entries; a quadratic cell has 900)
+    std::vector<std::uint16_t> cell_entry;
     /// The values of each of this rank's rows in the Trilinos matrix (looked
     /// up after each zeroing, which may move them).
     std::vector<double *> row_values;
