@@ -220,6 +220,7 @@ namespace softface
           converged = false;
         }
       result.iterations += control.last_step();
+      result.relative_residual = control.last_value();
       return converged;
     }
 

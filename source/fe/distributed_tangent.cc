@@ -31,64 +31,36 @@ namespace softface
       , n_serial_dofs(serial_is_join.size())
       , parameters(parameters)
   {
-    IndexSet relevant;
-    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant);
-    AssertThrow(relevant.n_elements() == serial_dof_of_relevant.size(),
+    DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_dofs);
+    AssertThrow(relevant_dofs.n_elements() == serial_dof_of_relevant.size(),
                 ExcInternalError());
-    const auto serial_dof = [&](const types::global_dof_index dof) {
-      return serial_dof_of_relevant[relevant.index_within_set(dof)];
-    };
+    relevant_is_join.resize(relevant_dofs.n_elements());
+    for (unsigned int k = 0; k < relevant_is_join.size(); ++k)
+      relevant_is_join[k] = serial_is_join[serial_dof_of_relevant[k]];
 
-    // Every coupling of the layout, join DoFs included: the right-hand side
-    // needs the join columns before they are eliminated.
-    TrilinosWrappers::SparsityPattern sparsity(locally_owned_dofs,
-                                               locally_owned_dofs,
-                                               relevant,
-                                               communicator);
-    DoFTools::make_sparsity_pattern(dof_handler,
-                                    sparsity,
-                                    AffineConstraints<double>(),
-                                    /*keep_constrained_dofs=*/true,
-                                    Utilities::MPI::this_mpi_process(
-                                      communicator));
-    sparsity.compress();
-    tangent.reinit(sparsity);
-    forces.reinit(locally_owned_dofs, communicator);
-    // Zeroing compresses the matrix, which settles its storage (deal.II
-    // optimises it then): the positions set_cells() finds stay valid.
-    tangent = 0.;
-
-    // Which rows and columns are join DoFs, found once (the elimination
-    // runs at every Newton iteration).
-    const auto &matrix = tangent.trilinos_matrix();
-    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
-                ExcInternalError());
-    row_serial_dof.resize(matrix.NumMyRows());
-    row_is_join.resize(matrix.NumMyRows());
-    diagonal_column.resize(matrix.NumMyRows());
-    owned_points.resize(matrix.NumMyRows());
-    owned_component.resize(matrix.NumMyRows());
-    for (int r = 0; r < matrix.NumMyRows(); ++r)
+    // This rank's rows, in the order of its owned DoFs (the matrix's and the
+    // vectors' local order): their serial DoFs, join flags and ML's null
+    // space (rotations about the centroid of all the model's DoF points, as
+    // the serial LinearSolver takes them; every rank holds them all).
+    const unsigned int n_rows = locally_owned_dofs.n_elements();
+    row_serial_dof.resize(n_rows);
+    row_is_join.resize(n_rows);
+    owned_points.resize(n_rows);
+    owned_component.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
       {
-        const auto dof    = TrilinosWrappers::global_row_index(matrix, r);
-        row_serial_dof[r] = serial_dof(dof);
-        row_is_join[r]    = serial_is_join[row_serial_dof[r]];
-        diagonal_column[r] =
-          matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(dof));
-        owned_points[r]    = serial_points[row_serial_dof[r]];
-        owned_component[r] = serial_component[row_serial_dof[r]];
+        const auto serial =
+          serial_dof_of_relevant[relevant_dofs.index_within_set(
+            locally_owned_dofs.nth_index_in_set(r))];
+        row_serial_dof[r]  = serial;
+        row_is_join[r]     = serial_is_join[serial];
+        owned_points[r]    = serial_points[serial];
+        owned_component[r] = serial_component[serial];
       }
-    // Every column of an owned row is a locally relevant DoF (a cell at an
-    // owned DoF is an owned or a ghost cell).
-    column_is_join.resize(matrix.NumMyCols());
-    for (int c = 0; c < matrix.NumMyCols(); ++c)
-      column_is_join[c] = serial_is_join[serial_dof(
-        TrilinosWrappers::global_column_index(matrix, c))];
-    // As the serial LinearSolver: rotations about the centroid of the DoF
-    // points (every rank holds them all).
     for (const auto &p : serial_points)
       centroid += p;
     centroid /= std::max<std::size_t>(serial_points.size(), 1);
+    forces.reinit(locally_owned_dofs, communicator);
   }
 
   void
@@ -96,12 +68,61 @@ namespace softface
     const std::vector<types::global_dof_index> &cell_dofs,
     const unsigned int                          n)
   {
-    const auto &matrix         = tangent.trilinos_matrix();
     dofs_per_cell              = n;
-    const unsigned int n_cells = cell_dofs.size() / n;
+    const std::size_t n_cells  = cell_dofs.size() / n;
+    const auto        is_owned = [&](const types::global_dof_index dof) {
+      return locally_owned_dofs.is_element(dof);
+    };
+    // The rows this rank owns, from the cells given: every cell at an owned
+    // DoF is here, so no other rank adds to these rows and none of these
+    // cells adds to another rank's (no rows written for other ranks, no
+    // exchange when the matrix is compressed).
+    {
+      TrilinosWrappers::SparsityPattern    sparsity(locally_owned_dofs,
+                                                 locally_owned_dofs,
+                                                 communicator);
+      std::vector<types::global_dof_index> columns(n);
+      for (std::size_t c = 0; c < n_cells; ++c)
+        {
+          std::copy(cell_dofs.begin() + n * c,
+                    cell_dofs.begin() + n * (c + 1),
+                    columns.begin());
+          std::sort(columns.begin(), columns.end());
+          for (unsigned int r = 0; r < n; ++r)
+            if (is_owned(cell_dofs[n * c + r]))
+              sparsity.add_entries(cell_dofs[n * c + r],
+                                   columns.begin(),
+                                   columns.end(),
+                                   true);
+        }
+      sparsity.compress();
+      tangent.reinit(sparsity);
+    }
+    // Zeroing compresses the matrix, which settles its storage: the
+    // positions found below stay valid.
+    tangent = 0.;
+
+    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
+    // A row's place among this rank's rows is its place in the forces too.
+    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
+                ExcInternalError());
+    diagonal_column.resize(matrix.NumMyRows());
+    for (int r = 0; r < matrix.NumMyRows(); ++r)
+      diagonal_column[r] =
+        matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
+          TrilinosWrappers::global_row_index(matrix, r)));
+    // Every column of an owned row is a locally relevant DoF (a cell at an
+    // owned DoF is an owned or a ghost cell).
+    column_is_join.resize(matrix.NumMyCols());
+    for (int c = 0; c < matrix.NumMyCols(); ++c)
+      column_is_join[c] = relevant_is_join[relevant_dofs.index_within_set(
+        TrilinosWrappers::global_column_index(matrix, c))];
+
+    // Where each cell's entries live in its owned rows' values: an
+    // assembly adds to them directly. A row's columns are sorted.
     cell_row.assign(n * n_cells, -1);
     cell_entry.assign(n * n * n_cells, 0);
-    for (unsigned int c = 0; c < n_cells; ++c)
+    for (std::size_t c = 0; c < n_cells; ++c)
       for (unsigned int r = 0; r < n; ++r)
         {
           const int local_row =
@@ -113,10 +134,7 @@ namespace softface
           int     n_entries;
           double *values;
           int    *columns;
-          const_cast<Epetra_CrsMatrix &>(matrix).ExtractMyRowView(local_row,
-                                                                  n_entries,
-                                                                  values,
-                                                                  columns);
+          matrix.ExtractMyRowView(local_row, n_entries, values, columns);
           AssertThrow(n_entries <= 65536, ExcNotImplemented());
           for (unsigned int q = 0; q < n; ++q)
             {
@@ -124,8 +142,9 @@ namespace softface
                 matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
                   cell_dofs[n * c + q]));
               const int *found =
-                std::find(columns, columns + n_entries, column);
-              AssertThrow(column >= 0 && found != columns + n_entries,
+                std::lower_bound(columns, columns + n_entries, column);
+              AssertThrow(column >= 0 && found != columns + n_entries &&
+                            *found == column,
                           ExcInternalError());
               cell_entry[n * n * c + n * r + q] = found - columns;
             }
@@ -162,7 +181,7 @@ namespace softface
     double            *owned_forces = forces.trilinos_vector()[0];
     for (unsigned int r = 0; r < n; ++r)
       {
-        const int local_row = cell_row[n * cell + r];
+        const int local_row = cell_row[std::size_t(n) * cell + r];
         if (local_row < 0)
           continue;
         owned_forces[local_row] += cell_forces[r];
@@ -183,7 +202,7 @@ namespace softface
     double *owned_forces = forces.trilinos_vector()[0];
     for (unsigned int r = 0; r < 12; ++r)
       {
-        const int local_row = cell_row[12 * cell + r];
+        const int local_row = cell_row[std::size_t(12) * cell + r];
         if (local_row < 0)
           continue;
         owned_forces[local_row] += response.force[r / 3][r % 3];
@@ -325,11 +344,9 @@ namespace softface
         else if (result.iterations > parameters.amg_rebuild_iterations)
           build_amg();
       }
-    TrilinosWrappers::MPI::Vector r(locally_owned_dofs, communicator);
-    tangent.vmult(r, x);
-    r -= b;
-    result.relative_residual = r.l2_norm() / std::max(rhs.l2_norm(), 1e-300);
-    du                       = gather(x);
+    // cg() leaves CG's last residual norm there.
+    result.relative_residual /= std::max(rhs.l2_norm(), 1e-300);
+    du = gather(x);
     return result;
   }
 

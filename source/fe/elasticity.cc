@@ -181,11 +181,13 @@ namespace softface
                   FullMatrix<double>              *K_cell)
     {
       const unsigned int n = u_cell.size();
-      // Up to quadratic tetrahedra: 30 DoFs (no allocation per cell).
-      std::array<Tensor<1, 3>, 30> grad;
-      AssertThrow(n <= grad.size(), ExcNotImplemented());
-      Tensor<2, 3> P;
-      Tensor<4, 3> A;
+      // Up to quadratic tetrahedra (30 DoFs) without an allocation per
+      // cell; larger elements allocate.
+      std::array<Tensor<1, 3>, 30> grad_small;
+      std::vector<Tensor<1, 3>>    grad_large(n > 30 ? n : 0);
+      Tensor<1, 3> *const grad = n > 30 ? grad_large.data() : grad_small.data();
+      Tensor<2, 3>        P;
+      Tensor<4, 3>        A;
       f_cell = 0;
       if (K_cell != nullptr)
         *K_cell = 0;

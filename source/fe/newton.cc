@@ -636,11 +636,11 @@ namespace softface
                   "'newton'.");
     // What needs the whole tangent on one rank (the model runs whole on
     // every rank instead).
-    Assert(distributed == nullptr ||
-             (prm.corrector == Parameters::Corrector::newton &&
-              constraints == nullptr && !prm.indefinite_lu &&
-              !prm.check_stability),
-           ExcMessage("Not on a distributed tangent."));
+    AssertThrow(distributed == nullptr ||
+                  (prm.corrector == Parameters::Corrector::newton &&
+                   constraints == nullptr && !prm.indefinite_lu &&
+                   !prm.check_stability),
+                ExcMessage("Not on a distributed tangent."));
     report          = Report();
     reference_force = 0.;
     u.reinit(n);

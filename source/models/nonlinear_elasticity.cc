@@ -114,6 +114,10 @@ namespace softface
         Utilities::MPI::n_mpi_processes(communicator);
       if (ranks_layout != nullptr)
         {
+          // Nothing serial is kept from an earlier setup.
+          tangent.clear();
+          sparsity.reinit(0, 0, 0);
+          linear_solver.initialize(solver_parameters, {}, {});
           {
             const auto                timed     = phase("matrix positions");
             std::vector<Point<3>>     points    = dof_points;

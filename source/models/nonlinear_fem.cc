@@ -66,9 +66,10 @@ namespace softface
       if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
           why_not_on_ranks().empty())
         {
-          const auto timed  = phase("partition");
-          ranks_layout      = &distributed_layout(*scene);
-          ranks_dof_handler = &ranks_layout->dof_handler;
+          const auto timed     = phase("partition");
+          ranks_layout         = &distributed_layout(*scene);
+          cell_entry_positions = {};
+          ranks_dof_handler    = &ranks_layout->dof_handler;
           ranks_serial_dofs.clear();
           for (const auto dof : ranks_layout->locally_relevant_dofs)
             ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
@@ -141,6 +142,9 @@ namespace softface
                            Vector<double>       &forces,
                            SparseMatrix<double> *tangent) const
     {
+      AssertThrow(!distributed_tangent,
+                  ExcMessage("On several MPI ranks the model evaluates "
+                             "through evaluate_on_ranks()."));
       forces.reinit(u.size());
       double *values = nullptr;
       if (tangent != nullptr)

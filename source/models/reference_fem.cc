@@ -299,6 +299,9 @@ namespace softface
                            Vector<double>       &forces,
                            SparseMatrix<double> *tangent) const
     {
+      AssertThrow(!distributed_tangent,
+                  ExcMessage("On several MPI ranks the model evaluates "
+                             "through evaluate_on_ranks()."));
       // A 3-point-per-direction rule: exact for the quadratic element's
       // linear stiffness and accurate for its nonlinear terms.
       unsigned int refused_cell = 0;

@@ -92,8 +92,9 @@ namespace softface
      * CG from @p solution down to the residual norm @p tolerance in at most
      * @p limit iterations, stopped where it meets negative curvature as the
      * serial LinearSolver is (@p result's flag). Adds its iterations to
-     * @p result; returns whether it converged. Collective; every rank takes
-     * the same decisions (they follow global norms).
+     * @p result and leaves its last residual norm (not relative) in
+     * @p result.relative_residual; returns whether it converged. Collective;
+     * every rank takes the same decisions (they follow global norms).
      */
     bool
     cg(const TrilinosWrappers::SparseMatrix    &matrix,

@@ -49,8 +49,7 @@ namespace softface
      * triangulation: its k-th locally relevant DoF is the model's serial DoF
      * @p serial_dof_of_relevant[k]. @p serial_is_join are the model's join
      * DoFs; @p serial_points and @p serial_component its DoFs' support
-     * points and components (ML's rigid-body modes). Sets up the
-     * unconstrained sparsity. Collective.
+     * points and components (ML's rigid-body modes).
      */
     DistributedTangent(
       const DoFHandler<3>                        &dof_handler,
@@ -65,8 +64,9 @@ namespace softface
      * in the element's order, one after the other): its own cells and the
      * ghost cells at the DoFs it owns. Each cell adds to the rows this rank
      * owns only, so that no contribution crosses the ranks; a cell at two
-     * ranks' DoFs is evaluated on both. The matrix positions of every cell's
-     * entries are found here once, as the serial P1 model finds them.
+     * ranks' DoFs is evaluated on both. The sparsity of this rank's rows
+     * and the matrix positions of every cell's entries in them are made
+     * here, once. Collective.
      */
     void
     set_cells(const std::vector<types::global_dof_index> &cell_dofs,
@@ -120,8 +120,12 @@ namespace softface
     Vector<double>
     gather(const TrilinosWrappers::MPI::Vector &owned_values) const;
 
-    const MPI_Comm                 communicator;
-    const IndexSet                 locally_owned_dofs;
+    const MPI_Comm communicator;
+    const IndexSet locally_owned_dofs;
+    IndexSet       relevant_dofs;
+    /// Whether each locally relevant DoF (by its place in relevant_dofs) is
+    /// a join DoF.
+    std::vector<char>              relevant_is_join;
     const unsigned int             n_serial_dofs;
     const LinearSolver::Parameters parameters;
     TrilinosWrappers::SparseMatrix tangent;

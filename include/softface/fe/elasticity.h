@@ -96,17 +96,6 @@ namespace softface
                         Vector<double>                  &forces);
 
     /**
-     * Nodal forces (and, if @p tangent is not null, the tangent, assembled
-     * from zero) of the displacement @p u on any vector-valued element of
-     * @p dof_handler, by quadrature, each cell with the Lame coefficients
-     * tissue_lame[tissue_of_cell[c]] (tissue_lame[0] everywhere if
-     * @p tissue_of_cell is empty). Returns false if the law refuses F at a
-     * quadrature point, unless @p may_skip_cell marks the cell (by active
-     * cell index): such a cell is then left out (a cell of prescribed DoFs
-     * only, crushed by the planning). On a refusal, @p refused_cell (if not
-     * null) is set to the refused cell's active cell index.
-     */
-    /**
      * One cell's nodal forces and, if @p K_cell is not null, its tangent, by
      * the quadrature @p fe_values was built with (reinitialised on the
      * cell); @p u_cell holds the cell's DoF values, @p component each DoF's
@@ -121,6 +110,17 @@ namespace softface
                   Vector<double>                  &f_cell,
                   FullMatrix<double>              *K_cell);
 
+    /**
+     * Nodal forces (and, if @p tangent is not null, the tangent, assembled
+     * from zero) of the displacement @p u on any vector-valued element of
+     * @p dof_handler, by quadrature, each cell with the Lame coefficients
+     * tissue_lame[tissue_of_cell[c]] (tissue_lame[0] everywhere if
+     * @p tissue_of_cell is empty). Returns false if the law refuses F at a
+     * quadrature point, unless @p may_skip_cell marks the cell (by active
+     * cell index): such a cell is then left out (a cell of prescribed DoFs
+     * only, crushed by the planning). On a refusal, @p refused_cell (if not
+     * null) is set to the refused cell's active cell index.
+     */
     bool
     assemble(const MaterialLaw::Law            law,
              const std::vector<Lame>          &tissue_lame,
