@@ -98,20 +98,9 @@ SOFTFACE_TEST(distributed_linear_fem)
 
   // Two tissues (the upper half stiffer), without and with gravity: the
   // body force must change the answer, or its branch would go untested.
-  const auto make_layered = [](Scene &scene, const bool with_gravity) {
-    make_cube_scene(scene, 3000, 3);
-    apply_effect(scene,
-                 "heterogeneous tissue",
-                 {{"Young's moduli", "1: 3000, 3: 12000"},
-                  {"Poisson's ratios", "1: 0.46, 3: 0.4"}});
-    if (with_gravity)
-      apply_effect(scene,
-                   "gravity",
-                   {{"Gravity", "0, 0, -9.81"}, {"Density", "1000"}});
-  };
   Scene layered, weightless;
-  make_layered(layered, true);
-  make_layered(weightless, false);
+  make_two_tissue_cube(layered, true);
+  make_two_tissue_cube(weightless, false);
   const Vector<double> lift4 = move_bone(layered, Point<3>(0, 0, 4));
   compare("two tissues under gravity", layered, lift4, Partitioner::cell_order);
   LinearSolver::Parameters tight;

@@ -159,14 +159,7 @@ SOFTFACE_TEST(distributed_nonlinear_fem)
   compare("gmsh cube30k, lifted", gmsh, lift);
 
   Scene layered;
-  make_cube_scene(layered, 3000, 3);
-  apply_effect(layered,
-               "heterogeneous tissue",
-               {{"Young's moduli", "1: 3000, 3: 12000"},
-                {"Poisson's ratios", "1: 0.46, 3: 0.4"}});
-  apply_effect(layered,
-               "gravity",
-               {{"Gravity", "0, 0, -9.81"}, {"Density", "1000"}});
+  make_two_tissue_cube(layered);
   compare("two tissues under gravity",
           layered,
           move_bone(layered, Point<3>(0, 0, 4)));

@@ -16,6 +16,8 @@
 #include <utility>
 #include <vector>
 
+#include "scenes.h"
+
 namespace softface_tests
 {
   using namespace softface;
@@ -83,6 +85,25 @@ namespace softface_tests
             }
       }
     scene.mesh_description = "block";
+  }
+
+  /**
+   * The seed's cube of about 3000 tetrahedra in two tissues (the upper
+   * half four times stiffer), and, if asked, under gravity: the MPI tests'
+   * scene for per-cell materials and a body force.
+   */
+  inline void
+  make_two_tissue_cube(Scene &scene, const bool with_gravity = true)
+  {
+    make_cube_scene(scene, 3000, 3);
+    apply_effect(scene,
+                 "heterogeneous tissue",
+                 {{"Young's moduli", "1: 3000, 3: 12000"},
+                  {"Poisson's ratios", "1: 0.46, 3: 0.4"}});
+    if (with_gravity)
+      apply_effect(scene,
+                   "gravity",
+                   {{"Gravity", "0, 0, -9.81"}, {"Density", "1000"}});
   }
 } // namespace softface_tests
 

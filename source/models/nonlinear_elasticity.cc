@@ -291,6 +291,20 @@ namespace softface
       return false;
     }
 
+    bool
+    NonlinearElasticity::end_evaluation_on_ranks(Vector<double> &forces,
+                                                 unsigned int    refused) const
+    {
+      distributed_tangent->end_assembly(forces);
+      refused = Utilities::MPI::min(refused, communicator);
+      if (refused != numbers::invalid_unsigned_int)
+        {
+          refusal = describe_cell(refused);
+          return false;
+        }
+      return true;
+    }
+
     std::string
     NonlinearElasticity::describe_cell(const unsigned int cell_index) const
     {

@@ -240,14 +240,7 @@ namespace softface
           else if (cell_has_free_vertex[c])
             refused = std::min(refused, c);
         }
-      distributed_tangent->end_assembly(forces);
-      refused = Utilities::MPI::min(refused, communicator);
-      if (refused != numbers::invalid_unsigned_int)
-        {
-          refusal = describe_cell(refused);
-          return false;
-        }
-      return true;
+      return end_evaluation_on_ranks(forces, refused);
     }
 
     void

@@ -113,6 +113,16 @@ namespace softface
                         Vector<double>       &forces,
                         const bool            with_tangent) const;
 
+      /**
+       * The end of evaluate_on_ranks(): the forces gathered into @p forces,
+       * and the first cell of all ranks that refused the state (@p refused:
+       * this rank's, invalid_unsigned_int if none; the scene's cell number)
+       * described in the refusal; false if there is one. Collective.
+       */
+      bool
+      end_evaluation_on_ranks(Vector<double> &forces,
+                              unsigned int    refused) const;
+
       void
       do_setup(const Scene &scene) override;
       void
