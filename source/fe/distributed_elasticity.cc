@@ -140,24 +140,14 @@ namespace softface
     LinearSystem::build_preconditioner()
     {
       Assert(layout != nullptr, ExcMessage("LinearSystem::assemble() first."));
-      amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-      build_amg(*layout, parameters, stiffness, *amg);
-    }
-
-    void
-    build_amg(const DistributedLayout              &layout,
-              const LinearSolver::Parameters       &parameters,
-              const TrilinosWrappers::SparseMatrix &matrix,
-              TrilinosWrappers::PreconditionAMG    &amg)
-    {
-      const MPI_Comm  comm  = layout.communicator;
-      const IndexSet &owned = layout.locally_owned_dofs;
+      const MPI_Comm  comm  = layout->communicator;
+      const IndexSet &owned = layout->locally_owned_dofs;
       // ML as the serial model builds it: the owned DoFs' points and
       // components, rotations about the centroid of all vertices.
       std::vector<Point<3>>     points(owned.n_elements());
       std::vector<unsigned int> component(owned.n_elements(),
                                           numbers::invalid_unsigned_int);
-      for (const auto &cell : layout.dof_handler.active_cell_iterators())
+      for (const auto &cell : layout->dof_handler.active_cell_iterators())
         if (!cell->is_artificial())
           for (const unsigned int v : cell->vertex_indices())
             for (unsigned int c = 0; c < 3; ++c)
@@ -175,11 +165,12 @@ namespace softface
       centroid = Point<3>(
         Utilities::MPI::sum(static_cast<const Tensor<1, 3> &>(centroid), comm));
       centroid /=
-        std::max<types::global_dof_index>(layout.dof_handler.n_dofs(), 1);
+        std::max<types::global_dof_index>(layout->dof_handler.n_dofs(), 1);
       Teuchos::ParameterList list;
       const auto             null_space = LinearSolver::amg_parameters(
-        parameters, matrix, points, component, centroid, list);
-      amg.initialize(matrix, list);
+        parameters, stiffness, points, component, centroid, list);
+      amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
+      amg->initialize(stiffness, list);
     }
 
     bool

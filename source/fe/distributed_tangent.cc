@@ -188,7 +188,8 @@ namespace softface
         if (!with_tangent)
           continue;
         double              *values = row_values[local_row];
-        const std::uint16_t *entry  = &cell_entry[n * n * cell + n * r];
+        const std::uint16_t *entry =
+          &cell_entry[std::size_t(n) * n * cell + n * r];
         for (unsigned int q = 0; q < n; ++q)
           values[entry[q]] += cell_tangent(r, q);
       }
@@ -209,7 +210,8 @@ namespace softface
         if (!with_tangent)
           continue;
         double              *values = row_values[local_row];
-        const std::uint16_t *entry  = &cell_entry[144 * cell + 12 * r];
+        const std::uint16_t *entry =
+          &cell_entry[std::size_t(144) * cell + 12 * r];
         for (unsigned int b = 0; b < 4; ++b)
           for (unsigned int j = 0; j < 3; ++j)
             values[*entry++] += response.tangent[r / 3][b][r % 3][j];

@@ -119,18 +119,21 @@ namespace softface
           sparsity.reinit(0, 0, 0);
           linear_solver.initialize(solver_parameters, {}, {});
           {
-            const auto                timed     = phase("matrix positions");
-            std::vector<Point<3>>     points    = dof_points;
-            std::vector<unsigned int> component = dof_component;
-            if (points.empty())
-              LinearSolver::scene_dof_points(*scene, points, component);
-            distributed_tangent =
-              std::make_unique<DistributedTangent>(*ranks_dof_handler,
-                                                   ranks_serial_dofs,
-                                                   is_join,
-                                                   points,
-                                                   component,
-                                                   solver_parameters);
+            const auto timed = phase("matrix positions");
+            // The shared layout's points if the model has none of its own.
+            std::vector<Point<3>>     scene_points;
+            std::vector<unsigned int> scene_component;
+            if (dof_points.empty())
+              LinearSolver::scene_dof_points(*scene,
+                                             scene_points,
+                                             scene_component);
+            distributed_tangent = std::make_unique<DistributedTangent>(
+              *ranks_dof_handler,
+              ranks_serial_dofs,
+              is_join,
+              dof_points.empty() ? scene_points : dof_points,
+              dof_points.empty() ? scene_component : dof_component,
+              solver_parameters);
             distributed_tangent->set_cells(ranks_cell_dofs,
                                            ranks_dofs_per_cell);
             ranks_cell_dofs   = {};

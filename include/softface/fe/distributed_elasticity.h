@@ -78,17 +78,6 @@ namespace softface
     };
 
     /**
-     * ML on @p matrix, a matrix of @p layout's DoFs, as the serial models
-     * build it: the six rigid-body modes of the DoFs this rank owns, turned
-     * about the centroid of all vertices. Collective.
-     */
-    void
-    build_amg(const DistributedLayout              &layout,
-              const LinearSolver::Parameters       &parameters,
-              const TrilinosWrappers::SparseMatrix &matrix,
-              TrilinosWrappers::PreconditionAMG    &amg);
-
-    /**
      * CG from @p solution down to the residual norm @p tolerance in at most
      * @p limit iterations, stopped where it meets negative curvature as the
      * serial LinearSolver is (@p result's flag). Adds its iterations to
