@@ -6,7 +6,9 @@
 // say they ran on the ranks; rank 0 alone writes (each rank names its own
 // output folder, only rank 0's exists), but for the fields: a piece
 // solution.N.vtu per rank and the record solution.pvtu, which softface's
-// mesh reader reads back as the mesh of a serial solution.vtu; a patient
+// mesh reader reads back as the mesh of a serial solution.vtu, with the same
+// point data at every point (each model's displacement, the join points and
+// segments); a patient
 // scene is refused on every rank.
 
 #include <deal.II/base/mpi.h>
@@ -14,6 +16,7 @@
 #include <softface/core/error.h>
 #include <softface/core/planning_list.h>
 #include <softface/io/mesh_reader.h>
+#include <softface/io/vtu_reader.h>
 #include <softface/models/interface.h>
 #include <softface/models/linear_fem.h>
 #include <softface/simulator/output.h>
@@ -27,6 +30,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 using namespace softface_tests;
@@ -191,6 +195,56 @@ SOFTFACE_TEST(mpi_run_scene)
         for (unsigned int d = 0; d < 3; ++d)
           largest = std::max(largest, std::abs(a[i][d] - b[i][d]));
       check_below("largest difference of a cell centre (mm)", largest, 1e-12);
+
+      // The point data: at every point the record holds, each array's
+      // values equal the serial file's at the same position (both files
+      // repeat a vertex per cell, with the same values).
+      for (const std::string array : {"displacement_linear_fem",
+                                      "displacement_mass_tensor",
+                                      "join_point",
+                                      "segment_id"})
+        {
+          const Mesh::PointField in_record =
+            Mesh::read_vtu_point_field(folder + "/solution.pvtu", array);
+          const Mesh::PointField in_serial =
+            Mesh::read_vtu_point_field(folder + "/serial.vtu", array);
+          const unsigned int n = in_serial.n_components;
+          std::map<std::array<double, 3>, std::vector<double>> at;
+          for (std::size_t i = 0; i < in_serial.points.size(); ++i)
+            at[{{in_serial.points[i][0],
+                 in_serial.points[i][1],
+                 in_serial.points[i][2]}}]
+              .assign(in_serial.values.begin() + n * i,
+                      in_serial.values.begin() + n * (i + 1));
+          unsigned int unmatched  = 0;
+          double       difference = 0., size = 0.;
+          for (std::size_t i = 0; i < in_record.points.size(); ++i)
+            {
+              const auto found = at.find({{in_record.points[i][0],
+                                           in_record.points[i][1],
+                                           in_record.points[i][2]}});
+              if (found == at.end() || in_record.n_components != n)
+                {
+                  ++unmatched;
+                  continue;
+                }
+              for (unsigned int c = 0; c < n; ++c)
+                {
+                  const double value = in_record.values[n * i + c];
+                  difference =
+                    std::max(difference, std::abs(value - found->second[c]));
+                  size = std::max(size, std::abs(value));
+                }
+            }
+          check_equal(array + ": points of solution.pvtu not in serial.vtu",
+                      unmatched,
+                      0);
+          check_equal(array + ": largest difference to serial.vtu",
+                      difference,
+                      0.);
+          // Not a field of zeros: the comparison compared something.
+          check_above(array + ": largest value", size, 0.99);
+        }
     }
 
   // A patient scene writes its stages as it builds: refused on several

@@ -155,6 +155,26 @@ SOFTFACE_TEST(vtu_formats)
                   ExcMessage(name + " differs from cube6_ascii"));
     }
 
+  // A point data array the file does not have: refused with one message
+  // that names the array and the file.
+  try
+    {
+      Mesh::read_vtu_point_field(softface_tests::source_file(
+                                   "data/vtu/cube6_pieces_ascii.vtu"),
+                                 "displacement");
+      deallog << "point data 'displacement' of cube6_pieces_ascii: read"
+              << std::endl;
+    }
+  catch (const Error &e)
+    {
+      const std::string message = e.what();
+      deallog << "point data 'displacement' of cube6_pieces_ascii refused, "
+                 "the message naming the array and the file: "
+              << (message.find("'displacement'") != std::string::npos &&
+                  message.find("cube6_pieces_ascii.vtu'") != std::string::npos)
+              << std::endl;
+    }
+
   // Damaged copies: read or refused, nothing else.
   const std::string original =
     file_bytes(softface_tests::source_file("data/vtu/cube6_appended_zlib.vtu"));

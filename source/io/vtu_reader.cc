@@ -712,24 +712,18 @@ namespace softface
           for (unsigned int &v : face.vertices)
             v = merged[v];
       }
-    } // namespace
-
-    CellNamer
-    read_vtu(const std::string &filename, Triangulation<3> &triangulation)
-    {
-      MeshData data;
-      try
+      /// Every Piece of a .vtu file, or of the .vtu files a parallel
+      /// record (.pvtu) names, in order.
+      struct Pieces
+      {
+        explicit Pieces(const std::string &filename)
+            : record(filename.size() > 5 &&
+                     filename.compare(filename.size() - 5, 5, ".pvtu") == 0)
         {
           // A parallel record's pieces are in files of their own.
-          const bool record =
-            filename.size() > 5 &&
-            filename.compare(filename.size() - 5, 5, ".pvtu") == 0;
           const std::vector<std::string> sources =
             record ? record_sources(filename) :
                      std::vector<std::string>{filename};
-          std::vector<std::unique_ptr<VtuFile>>                  files;
-          std::vector<std::pair<const VtuFile *, const ptree *>> pieces;
-          std::vector<std::string> piece_source; // a record's piece files
           for (const std::string &source : sources)
             {
               try
@@ -747,12 +741,47 @@ namespace softface
               for (const auto &child : files.back()->grid())
                 if (child.first == "Piece")
                   {
-                    pieces.emplace_back(files.back().get(), &child.second);
-                    piece_source.push_back(record ? source : "");
+                    file.push_back(files.back().get());
+                    piece.push_back(&child.second);
+                    source_of.push_back(record ? source : "");
                   }
             }
-          if (pieces.empty())
+          if (piece.empty())
             throw Error("it has no Piece");
+        }
+
+        std::size_t
+        size() const
+        {
+          return piece.size();
+        }
+
+        /// @p e, raised by piece @p p, naming the piece.
+        [[noreturn]] void
+        rethrow(const unsigned int p, const Error &e) const
+        {
+          if (!source_of[p].empty())
+            throw Error("its piece '" + source_of[p] + "': " + e.what());
+          if (size() == 1)
+            throw e;
+          throw Error("piece " + std::to_string(p) + ": " + e.what());
+        }
+
+        const bool                            record;
+        std::vector<std::unique_ptr<VtuFile>> files;
+        std::vector<const VtuFile *>          file;
+        std::vector<const ptree *>            piece;
+        std::vector<std::string>              source_of; // a record's files
+      };
+    } // namespace
+
+    CellNamer
+    read_vtu(const std::string &filename, Triangulation<3> &triangulation)
+    {
+      MeshData data;
+      try
+        {
+          const Pieces pieces(filename);
 
           std::vector<Point<3>>     vertices;
           std::vector<unsigned int> piece_of_vertex;
@@ -765,7 +794,7 @@ namespace softface
               Piece piece;
               try
                 {
-                  piece = read_piece(*pieces[p].first, *pieces[p].second);
+                  piece = read_piece(*pieces.file[p], *pieces.piece[p]);
                   // All pieces must name their ids alike (empty ones aside),
                   // or some cells would silently get id 0.
                   const auto described = [](const std::string &name) {
@@ -785,12 +814,7 @@ namespace softface
                 }
               catch (const Error &e)
                 {
-                  if (!piece_source[p].empty())
-                    throw Error("its piece '" + piece_source[p] +
-                                "': " + e.what());
-                  if (pieces.size() == 1)
-                    throw;
-                  throw Error("piece " + std::to_string(p) + ": " + e.what());
+                  pieces.rethrow(p, e);
                 }
 
               // Point numbers relative to the piece become global ones.
@@ -835,6 +859,69 @@ namespace softface
       for (std::size_t f = 0; f < data.faces.boundary_quads.size(); ++f)
         data.face_origins.push_back({std::int64_t(f), 0});
       return build_triangulation(data, filename, triangulation);
+    }
+
+    PointField
+    read_vtu_point_field(const std::string &filename, const std::string &name)
+    {
+      PointField field;
+      try
+        {
+          const Pieces pieces(filename);
+          for (unsigned int p = 0; p < pieces.size(); ++p)
+            try
+              {
+                const VtuFile &file  = *pieces.file[p];
+                const ptree   &piece = *pieces.piece[p];
+                // The points as read_vtu() reads them (a piece without
+                // cells may have none).
+                const std::vector<Point<3>> points =
+                  read_piece(file, piece).points;
+                const ptree *array =
+                  find_array(piece, "PointData", [&](const auto &n) {
+                    return n == name;
+                  });
+                if (array == nullptr)
+                  {
+                    if (points.empty())
+                      continue;
+                    throw Error("it has no DataArray '" + name +
+                                "' in PointData");
+                  }
+                const unsigned int components =
+                  whole_number(attribute(*array, "NumberOfComponents", "1"),
+                               "NumberOfComponents of '" + name + "'");
+                if (components == 0 || (field.n_components != 0 &&
+                                        components != field.n_components))
+                  throw Error("its DataArray '" + name + "' has " +
+                              std::to_string(components) +
+                              " components, the pieces before it " +
+                              std::to_string(field.n_components));
+                const std::vector<double> values = file.values(*array, name);
+                if (values.size() != components * points.size())
+                  throw Error("'" + name + "' holds " +
+                              std::to_string(values.size()) + " values for " +
+                              std::to_string(points.size()) + " points of " +
+                              std::to_string(components) + " components");
+                field.n_components = components;
+                field.points.insert(field.points.end(),
+                                    points.begin(),
+                                    points.end());
+                field.values.insert(field.values.end(),
+                                    values.begin(),
+                                    values.end());
+              }
+            catch (const Error &e)
+              {
+                pieces.rethrow(p, e);
+              }
+        }
+      catch (const std::exception &e)
+        {
+          throw Error("Cannot read '" + name + "' from '" + filename +
+                      "': " + error_message(e) + ".");
+        }
+      return field;
     }
   } // namespace Mesh
 } // namespace softface

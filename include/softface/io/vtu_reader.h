@@ -6,6 +6,7 @@
 #include <softface/core/mesh.h>
 
 #include <string>
+#include <vector>
 
 namespace softface
 {
@@ -33,6 +34,28 @@ namespace softface
      */
     CellNamer
     read_vtu(const std::string &filename, Triangulation<3> &triangulation);
+
+    /// One point data array of a .vtu or .pvtu file.
+    struct PointField
+    {
+      /// Every point of every piece, in the file's order: the points that
+      /// pieces share appear once per piece, as written.
+      std::vector<Point<3>> points;
+      /// Values per point (1 for a scalar, 3 for a vector).
+      unsigned int n_components = 0;
+      /// n_components values per point, point after point.
+      std::vector<double> values;
+    };
+
+    /**
+     * The point data array @p name of a .vtu file or of every piece of a
+     * parallel record (.pvtu), in the formats read_vtu() reads. A piece
+     * without the array (unless it has no points), a count that does not
+     * match its points, or pieces that disagree on the number of components
+     * throw one softface::Error naming the file and the array.
+     */
+    PointField
+    read_vtu_point_field(const std::string &filename, const std::string &name);
   } // namespace Mesh
 } // namespace softface
 
