@@ -2,7 +2,7 @@
 // ctest on 2 and 3 ranks (mpi_run_scene.mpirun=N.output): every rank ends
 // with exit code 0 and the serial models' answers (linear FEM distributed:
 // equal to the serial model to 1e-8 relative; the mass tensor model
-// distributed too: within its stop distance, 0.1 mm, of a serial run); both
+// distributed too: equal to a serial run); both
 // say they ran on the ranks; rank 0 alone writes (each rank names its own
 // output folder, only rank 0's exists), but for the fields: a piece
 // solution.N.vtu per rank and the record solution.pvtu, which softface's
@@ -101,8 +101,8 @@ SOFTFACE_TEST(mpi_run_scene)
               runs[0].displacement.linfty_norm(),
               5.9);
 
-  // The mass tensor model, distributed: the ranks sweep in another order,
-  // and each answer is within the stop distance of the converged one.
+  // The mass tensor model, distributed: the ranks sweep in the serial
+  // order, so the answer is the serial one.
   check_equal("mass tensor says it ran on the ranks",
               ran_on_the_ranks(runs[1]),
               true);
@@ -112,9 +112,9 @@ SOFTFACE_TEST(mpi_run_scene)
   mass_tensor->solve(prescribed, expected);
   Vector<double> difference = runs[1].displacement;
   difference -= expected;
-  check_below("mass tensor: largest difference to a serial run (mm)",
+  check_equal("mass tensor: largest difference to a serial run (mm)",
               difference.linfty_norm(),
-              0.1);
+              0.);
 
   // Rank 0 alone wrote its outputs: the summary has a row per model, and
   // the other ranks' folders do not exist.

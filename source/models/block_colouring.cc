@@ -11,8 +11,8 @@ namespace softface
                                  const std::vector<unsigned int> &row_start,
                                  const std::vector<unsigned int> &neighbour)
   {
-    const unsigned int size     = std::max(256u, n_points / 256);
-    const unsigned int n_blocks = (n_points + size - 1) / size;
+    constexpr unsigned int size     = 256;
+    const unsigned int     n_blocks = (n_points + size - 1) / size;
     for (unsigned int b = 0; b <= n_blocks; ++b)
       block_start.push_back(std::min(n_points, b * size));
 
@@ -49,17 +49,22 @@ namespace softface
   void
   BlockColouring::sweep(
     const std::vector<unsigned int>                                   &points,
-    const std::function<void(unsigned int, std::size_t, std::size_t)> &update)
-    const
+    const std::function<void(unsigned int, std::size_t, std::size_t)> &update,
+    const std::function<void(unsigned int)> &after_colour) const
   {
-    for (const auto &blocks : colours)
-      Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
-        const unsigned int b = blocks[k];
-        const auto         begin =
-          std::lower_bound(points.begin(), points.end(), block_start[b]);
-        const auto end =
-          std::lower_bound(begin, points.end(), block_start[b + 1]);
-        update(b, begin - points.begin(), end - points.begin());
-      });
+    for (unsigned int c = 0; c < colours.size(); ++c)
+      {
+        const auto &blocks = colours[c];
+        Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
+          const unsigned int b = blocks[k];
+          const auto         begin =
+            std::lower_bound(points.begin(), points.end(), block_start[b]);
+          const auto end =
+            std::lower_bound(begin, points.end(), block_start[b + 1]);
+          update(b, begin - points.begin(), end - points.begin());
+        });
+        if (after_colour)
+          after_colour(c);
+      }
   }
 } // namespace softface

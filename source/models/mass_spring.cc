@@ -4,7 +4,6 @@
 
 #include <deal.II/base/mpi.h>
 
-#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/models/active_set.h>
@@ -172,14 +171,21 @@ namespace softface
       // On several MPI ranks each moves the points it owns (issue 20). A
       // constrained step moves its partner, which another rank may own:
       // with vertex constraints every rank runs the model whole.
+      // A constrained update moves its partner too, further than a block's
+      // colour keeps apart: such scenes sweep in plain order on one thread.
+      colouring = scene->has_vertex_constraints() ?
+                    std::make_unique<BlockColouring>(mesh->n_points()) :
+                    std::make_unique<BlockColouring>(mesh->n_points(),
+                                                     mesh->row_start,
+                                                     mesh->neighbour);
       exchange.reset();
       const unsigned int n_ranks =
         Utilities::MPI::n_mpi_processes(communicator);
       if (n_ranks > 1 && !scene->has_vertex_constraints())
         {
-          const auto               partition = phase("partition");
-          const DistributedLayout &layout    = distributed_layout(*scene);
-          exchange = std::make_unique<PointExchange>(layout, *mesh);
+          const auto partition = phase("partition");
+          exchange =
+            std::make_unique<PointExchange>(*colouring, *mesh, communicator);
           add_detail("MPI ranks", n_ranks);
         }
       else if (n_ranks > 1)
@@ -208,9 +214,8 @@ namespace softface
       };
       static_assert(sizeof(Point<3>) == 3 * sizeof(double),
                     "the exchange reads positions as 3 doubles per point");
-      // Ghost points that moved in an exchange; a sweep's points split into
-      // those with and without a neighbour on another rank.
-      std::vector<unsigned int> moved_ghosts, interior_points, border_points;
+      // Ghost points that moved in an exchange.
+      std::vector<unsigned int> moved_ghosts;
 
       // Warm start: from the previous plan's answer; the load steps carry
       // the join points from that plan's positions ('start') to this one's.
@@ -391,12 +396,8 @@ namespace softface
             initial += force(j, shortest).norm_square();
           }
 
-      // A constrained update moves its partner too, further than a block's
-      // colour keeps apart: such scenes sweep in plain order on one thread.
-      const BlockColouring colouring =
-        constraints.empty() ? BlockColouring(n, row_start, other_end) :
-                              BlockColouring(n);
-      const unsigned int                     n_blocks = colouring.n_blocks();
+      Assert(colouring->block_start.back() == n, ExcInternalError());
+      const unsigned int                     n_blocks = colouring->n_blocks();
       std::vector<unsigned long long>        block_blocked(n_blocks, 0);
       std::vector<char>                      not_finite(n_blocks, 0);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
@@ -466,14 +467,13 @@ namespace softface
                 }
               // The blocks of one colour at once (BlockColouring), each over
               // its points of this sweep in order; the colours in turn.
-              const std::vector<unsigned int> *phase_points = current;
               const auto block_update = [&](const unsigned int b,
                                             const std::size_t  begin,
                                             const std::size_t  end) {
                 std::vector<unsigned int> &queued = block_queued[b];
                 for (std::size_t q = begin; q < end; ++q)
                   {
-                    const unsigned int j = (*phase_points)[q];
+                    const unsigned int j = (*current)[q];
                     {
                       Tensor<1, 3>       step = free_step(j), step_other;
                       const unsigned int partner =
@@ -546,34 +546,22 @@ namespace softface
                     }
                   }
               };
-              if (!exchange)
-                colouring.sweep(*current, block_update);
-              else
-                {
-                  // Interior points, then the border points colour by
-                  // colour (PointExchange): a Gauss-Seidel sweep over all
-                  // ranks. A ghost that moved changed the force on its
-                  // neighbours here.
-                  exchange->split(*current, interior_points, border_points);
-                  phase_points = &interior_points;
-                  colouring.sweep(interior_points, block_update);
-                  for (unsigned int c = 0; c < exchange->n_colours(); ++c)
-                    {
-                      if (c == exchange->colour())
-                        {
-                          phase_points = &border_points;
-                          colouring.sweep(border_points, block_update);
-                        }
-                      moved_ghosts.clear();
-                      exchange->exchange(&x[0][0], 0., moved_ghosts);
-                      for (const unsigned int g : moved_ghosts)
-                        for (unsigned int i = row_start[g];
-                             i < row_start[g + 1];
-                             ++i)
-                          if (mine[other_end[i]])
-                            active.queue(other_end[i]);
-                    }
-                }
+              // On several ranks each colour's moves travel before the
+              // next colour (PointExchange): the serial sweep. A ghost that
+              // moved changed the force on its neighbours here.
+              const auto exchange_colour = [&](const unsigned int c) {
+                moved_ghosts.clear();
+                exchange->exchange(c, &x[0][0], 0., moved_ghosts);
+                for (const unsigned int g : moved_ghosts)
+                  for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
+                    if (mine[other_end[i]])
+                      active.queue(other_end[i]);
+              };
+              colouring->sweep(*current,
+                               block_update,
+                               exchange ? std::function<void(unsigned int)>(
+                                            exchange_colour) :
+                                          std::function<void(unsigned int)>());
               bool any_not_finite =
                 std::find(not_finite.begin(), not_finite.end(), 1) !=
                 not_finite.end();

@@ -8,7 +8,6 @@
 #include <deal.II/base/timer.h>
 
 #include <softface/core/displacement.h>
-#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/constrained_system.h>
@@ -328,9 +327,9 @@ namespace softface
         Utilities::MPI::n_mpi_processes(communicator);
       if (n_ranks > 1 && point_constraints.empty())
         {
-          const auto               partition = phase("partition");
-          const DistributedLayout &layout    = distributed_layout(*scene);
-          exchange = std::make_unique<PointExchange>(layout, *mesh);
+          const auto partition = phase("partition");
+          exchange =
+            std::make_unique<PointExchange>(*colouring, *mesh, communicator);
           add_detail("MPI ranks", n_ranks);
         }
       else if (n_ranks > 1)
@@ -654,9 +653,8 @@ namespace softface
       unsigned int                       sweep         = 0;
       unsigned long long                 point_updates = 0;
       bool done = global_sum(all_touched.size()) == 0;
-      // Ghost points that moved in an exchange; a sweep's points split into
-      // those with and without a neighbour on another rank.
-      std::vector<unsigned int> moved_ghosts, interior_points, border_points;
+      // Ghost points that moved in an exchange.
+      std::vector<unsigned int> moved_ghosts;
       // The check of a proposed stop (see "Stop distance"): the largest
       // change of every sweep since the sweeps last restarted. The rate is
       // measured over the second half of them: the slow error modes' rate
@@ -716,7 +714,6 @@ namespace softface
 
           // The blocks of one colour at once (BlockColouring), each over
           // its points of this sweep in order; the colours in turn.
-          const std::vector<unsigned int> *phase_points = &current;
           const auto block_update = [&](const unsigned int b,
                                         const std::size_t  q_begin,
                                         const std::size_t  q_end) {
@@ -726,7 +723,7 @@ namespace softface
             bool all_stopped                          = true;
             for (auto q = q_begin; q < q_end; ++q)
               {
-                const unsigned int j = (*phase_points)[q];
+                const unsigned int j = current[q];
                 // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
                 double f0 = 0., f1 = 0., f2 = 0.;
                 if (load != nullptr)
@@ -804,49 +801,40 @@ namespace softface
           };
           bool   all_stopped    = true;
           double largest_change = 0., largest_divergence = 0.;
-          // A phase of the sweep, its blocks' results folded into the
-          // sweep's.
-          const auto run_phase = [&](const std::vector<unsigned int> &points) {
-            phase_points = &points;
-            colouring->sweep(points, block_update);
-            for (unsigned int b = 0; b < n_blocks; ++b)
-              {
-                if (!(diverged[b] == 0.)) // NaN too
-                  largest_divergence =
-                    std::isnan(diverged[b]) ?
-                      std::numeric_limits<double>::infinity() :
-                      std::max(largest_divergence, diverged[b]);
-                diverged[b] = 0.;
-                all_stopped &= block_stopped[b];
-                largest_change = std::max(largest_change, block_largest[b]);
-                active.add(block_queued[b]);
-              }
-          };
-          // The ranks' borders: a ghost that moved by more than the
-          // threshold changed the force on its neighbours here.
-          const auto exchange_borders = [&]() {
-            moved_ghosts.clear();
-            exchange->exchange(u, threshold, moved_ghosts);
+          // On several ranks each colour's values travel before the next
+          // colour (PointExchange): the serial sweep. A ghost that moved by
+          // more than the threshold changed the force on its neighbours
+          // here, as a neighbour's step does in serial.
+          const auto woke = [&]() {
             if (use_active_set)
               for (const unsigned int g : moved_ghosts)
                 for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
                   if (mine[neighbour[i]])
                     active.queue(neighbour[i]);
           };
-          if (!exchange || !gauss_seidel)
-            run_phase(current);
-          else
+          const auto exchange_colour = [&](const unsigned int c) {
+            moved_ghosts.clear();
+            exchange->exchange(c, u, threshold, moved_ghosts);
+            woke();
+          };
+          colouring->sweep(current,
+                           block_update,
+                           exchange && gauss_seidel ?
+                             std::function<void(unsigned int)>(
+                               exchange_colour) :
+                             std::function<void(unsigned int)>());
+          // The blocks' results folded into the sweep's.
+          for (unsigned int b = 0; b < n_blocks; ++b)
             {
-              // Interior points, then the border points colour by colour
-              // (PointExchange): a Gauss-Seidel sweep over all ranks.
-              exchange->split(current, interior_points, border_points);
-              run_phase(interior_points);
-              for (unsigned int c = 0; c < exchange->n_colours(); ++c)
-                {
-                  if (c == exchange->colour())
-                    run_phase(border_points);
-                  exchange_borders();
-                }
+              if (!(diverged[b] == 0.)) // NaN too
+                largest_divergence =
+                  std::isnan(diverged[b]) ?
+                    std::numeric_limits<double>::infinity() :
+                    std::max(largest_divergence, diverged[b]);
+              diverged[b] = 0.;
+              all_stopped &= block_stopped[b];
+              largest_change = std::max(largest_change, block_largest[b]);
+              active.add(block_queued[b]);
             }
           if (!gauss_seidel)
             {
@@ -854,7 +842,11 @@ namespace softface
                 for (unsigned int c = 0; c < 3; ++c)
                   u[3 * current[q] + c] = jacobi_values[q][c];
               if (exchange)
-                exchange_borders();
+                {
+                  moved_ghosts.clear();
+                  exchange->exchange_all(u, threshold, moved_ghosts);
+                  woke();
+                }
             }
           bool none_next = false;
           if (use_active_set)

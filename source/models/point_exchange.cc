@@ -1,8 +1,10 @@
 // Point values of the mass tensor and mass spring models on several MPI
 // ranks (issue 20): who updates which point, and the ghost exchange after
-// each sweep. See models/point_exchange.h.
+// each colour of a sweep. See models/point_exchange.h.
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/base/mpi.templates.h>
+#include <deal.II/base/partitioner.templates.h>
 
 #include <softface/core/error.h>
 #include <softface/models/point_exchange.h>
@@ -12,150 +14,128 @@
 
 namespace softface
 {
-  PointExchange::PointExchange(const DistributedLayout &layout,
-                               const Models::PointMesh &mesh)
-      : communicator(layout.communicator)
-      , n_points(layout.scene.dof_handler.n_dofs() / 3)
+  PointExchange::PointExchange(const BlockColouring    &colouring,
+                               const Models::PointMesh &mesh,
+                               const MPI_Comm           communicator)
+      : communicator(communicator)
+      , n_points(mesh.n_points())
   {
-    AssertThrow(layout.scene.dof_handler.n_dofs() % 3 == 0,
-                ExcMessage("A point exchange needs three DoFs per point."));
-    IndexSet ghosts = layout.locally_relevant_dofs;
-    ghosts.subtract_set(layout.locally_owned_dofs);
-    buffer.reinit(layout.locally_owned_dofs, ghosts, communicator);
-    const auto &partitioner = *buffer.get_partitioner();
+    const auto        &row_start = mesh.row_start;
+    const auto        &neighbour = mesh.neighbour;
+    const auto        &is_free   = mesh.is_free;
+    const auto        &start     = colouring.block_start;
+    const unsigned int n_blocks  = colouring.n_blocks();
+    AssertThrow(row_start.size() == n_points + 1 && start.back() == n_points,
+                ExcMessage("The point mesh does not match the colouring."));
 
-    owned.assign(n_points, 0);
-    owned_dofs.reserve(layout.locally_owned_dofs.n_elements());
-    for (const auto dof : layout.locally_owned_dofs)
+    // Consecutive blocks per rank, as many free points each as can be: a
+    // rank's share of the work (join points are not updated).
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
+    std::vector<unsigned long long> free_before(n_blocks + 1, 0);
+    for (unsigned int b = 0; b < n_blocks; ++b)
       {
-        const auto serial = layout.serial_dof(dof);
-        owned[serial / 3] = 1;
-        owned_dofs.push_back(
-          {{static_cast<unsigned int>(partitioner.global_to_local(dof)),
-            static_cast<unsigned int>(serial)}});
+        free_before[b + 1] = free_before[b];
+        for (unsigned int j = start[b]; j < start[b + 1]; ++j)
+          free_before[b + 1] += is_free[j];
       }
-    // A ghost point's three components, by point.
-    std::vector<unsigned int> slot(n_points, numbers::invalid_unsigned_int);
-    for (const auto dof : ghosts)
-      {
-        const auto   serial = layout.serial_dof(dof);
-        unsigned int point  = serial / 3;
-        if (slot[point] == numbers::invalid_unsigned_int)
-          {
-            slot[point] = ghost_points.size();
-            ghost_points.push_back(point);
-            ghost_local.push_back({{0, 0, 0}});
-          }
-        ghost_local[slot[point]][serial % 3] = partitioner.global_to_local(dof);
-      }
-    // Only the owned values another rank reads travel: the partitioner's
-    // import indices (local, the owned DoFs in order).
-    std::vector<bool> exported(owned_dofs.size(), false);
-    for (const auto &range : partitioner.import_indices())
-      for (unsigned int l = range.first; l < range.second; ++l)
-        exported[l] = true;
-    for (const auto &entry : owned_dofs)
-      if (exported[entry[0]])
-        exported_dofs.push_back(entry);
+    // Rank r's blocks begin at the first block with at least r / n_ranks of
+    // the free points before it.
+    const auto first_block = [&](const unsigned int r) {
+      unsigned int b = 0;
+      while (b < n_blocks &&
+             free_before[b] * n_ranks < free_before[n_blocks] * r)
+        ++b;
+      return r == n_ranks ? n_blocks : b;
+    };
+    first_point = start[first_block(rank)];
+    end_point   = start[first_block(rank + 1)];
 
-    const auto &row_start = mesh.row_start;
-    const auto &neighbour = mesh.neighbour;
-    const auto &is_free   = mesh.is_free;
-    AssertThrow(row_start.size() == n_points + 1 && is_free.size() == n_points,
-                ExcMessage("The point mesh does not match the layout."));
+    std::vector<unsigned int> colour_of_block(n_blocks);
+    for (unsigned int c = 0; c < colouring.colours.size(); ++c)
+      for (const unsigned int b : colouring.colours[c])
+        colour_of_block[b] = c;
 
-    // Border points: owned, with a free neighbour that is not. Every
-    // neighbour of an owned point must be here, owned or a ghost (the owner
-    // of a vertex owns a cell around it), or a sweep would read stale values.
-    for (unsigned int j = 0; j < n_points; ++j)
-      if (owned[j])
+    // Ghosts: the free points of other ranks that this rank's free points
+    // read (join points never move, every rank has their values).
+    std::vector<char> read(n_points, 0);
+    for (unsigned int j = first_point; j < end_point; ++j)
+      if (is_free[j])
         for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
           {
             const unsigned int k = neighbour[i];
-            AssertThrow(owned[k] || slot[k] != numbers::invalid_unsigned_int,
-                        ExcMessage("A neighbour of point " + std::to_string(j) +
-                                   " is neither owned nor a ghost here."));
-            if (!owned[k] && is_free[k])
-              owned[j] = 2;
+            if (!owns(k) && is_free[k])
+              read[k] = 1;
           }
-
-    // The ranks whose points border this rank's, on every rank; colours
-    // given greedily in rank order, the same on every rank.
-    std::vector<unsigned int> adjacent;
-    for (const auto &target : partitioner.ghost_targets())
-      adjacent.push_back(target.first);
-    for (const auto &target : partitioner.import_targets())
-      adjacent.push_back(target.first);
-    const auto all_adjacent =
-      Utilities::MPI::all_gather(communicator, adjacent);
-    const unsigned int                     n_ranks = all_adjacent.size();
-    std::vector<std::vector<unsigned int>> graph(n_ranks);
-    for (unsigned int r = 0; r < n_ranks; ++r)
-      for (const unsigned int s : all_adjacent[r])
-        if (s != r)
-          {
-            graph[r].push_back(s);
-            graph[s].push_back(r);
-          }
-    std::vector<unsigned int> colour_of(n_ranks, 0);
-    for (unsigned int r = 0; r < n_ranks; ++r)
+    colours.resize(colouring.colours.size());
+    std::vector<IndexSet> ghost_dofs(colours.size(), IndexSet(3 * n_points));
+    unsigned int          block = 0;
+    for (unsigned int k = 0; k < n_points; ++k)
       {
-        std::vector<bool> taken(n_ranks + 1, false);
-        for (const unsigned int s : graph[r])
-          if (s < r)
-            taken[colour_of[s]] = true;
-        while (taken[colour_of[r]])
-          ++colour_of[r];
-        n_rank_colours = std::max(n_rank_colours, colour_of[r] + 1);
+        while (start[block + 1] <= k)
+          ++block;
+        if (!read[k])
+          continue;
+        const unsigned int c = colour_of_block[block];
+        colours[c].ghost_points.push_back(k);
+        ghost_dofs[c].add_range(3 * k, 3 * k + 3);
+        ++n_ghosts;
       }
-    rank_colour = colour_of[Utilities::MPI::this_mpi_process(communicator)];
+    IndexSet owned_dofs(3 * n_points);
+    owned_dofs.add_range(3 * first_point, 3 * end_point);
+    for (unsigned int c = 0; c < colours.size(); ++c)
+      {
+        ghost_dofs[c].compress();
+        auto &x = colours[c];
+        x.partitioner =
+          std::make_shared<Utilities::MPI::Partitioner>(owned_dofs,
+                                                        ghost_dofs[c],
+                                                        communicator);
+        x.ghost_values.resize(x.partitioner->n_ghost_indices());
+        x.send_buffer.resize(x.partitioner->n_import_indices());
+      }
   }
 
   void
-  PointExchange::split(const std::vector<unsigned int> &points,
-                       std::vector<unsigned int>       &interior,
-                       std::vector<unsigned int>       &border) const
-  {
-    interior.clear();
-    border.clear();
-    for (const unsigned int j : points)
-      (owned[j] == 2 ? border : interior).push_back(j);
-  }
-
-  unsigned int
-  PointExchange::n_owned_points() const
-  {
-    return owned_dofs.size() / 3;
-  }
-
-  unsigned int
-  PointExchange::n_ghost_points() const
-  {
-    return ghost_points.size();
-  }
-
-  void
-  PointExchange::exchange(double *const              values,
+  PointExchange::exchange(const unsigned int         colour,
+                          double *const              values,
                           const double               moved_threshold,
                           std::vector<unsigned int> &moved) const
   {
-    for (const auto &[local, serial] : exported_dofs)
-      buffer.local_element(local) = values[serial];
-    buffer.update_ghost_values();
-    const double threshold_squared = moved_threshold * moved_threshold;
-    for (unsigned int g = 0; g < ghost_points.size(); ++g)
+    const ColourExchange    &x = colours[colour];
+    std::vector<MPI_Request> requests;
+    x.partitioner->export_to_ghosted_array_start<double>(
+      0,
+      ArrayView<const double>(values + 3 * std::size_t(first_point),
+                              3 * std::size_t(end_point - first_point)),
+      make_array_view(x.send_buffer),
+      make_array_view(x.ghost_values),
+      requests);
+    x.partitioner->export_to_ghosted_array_finish<double>(
+      make_array_view(x.ghost_values), requests);
+    for (unsigned int g = 0; g < x.ghost_points.size(); ++g)
       {
-        double *const v      = values + 3 * ghost_points[g];
+        double *const v      = values + 3 * std::size_t(x.ghost_points[g]);
         double        change = 0.;
         for (unsigned int c = 0; c < 3; ++c)
           {
-            const double received = buffer.local_element(ghost_local[g][c]);
+            const double received = x.ghost_values[3 * g + c];
             change += (received - v[c]) * (received - v[c]);
             v[c] = received;
           }
-        if (change > threshold_squared)
-          moved.push_back(ghost_points[g]);
+        // As the owner's sweep compares the step it took.
+        if (std::sqrt(change) > moved_threshold)
+          moved.push_back(x.ghost_points[g]);
       }
+  }
+
+  void
+  PointExchange::exchange_all(double *const              values,
+                              const double               moved_threshold,
+                              std::vector<unsigned int> &moved) const
+  {
+    for (unsigned int c = 0; c < colours.size(); ++c)
+      exchange(c, values, moved_threshold, moved);
   }
 
   std::vector<char>
@@ -185,8 +165,9 @@ namespace softface
   PointExchange::gather(double *const values) const
   {
     std::vector<double> mine(3 * static_cast<std::size_t>(n_points), 0.);
-    for (const auto &entry : owned_dofs)
-      mine[entry[1]] = values[entry[1]];
+    std::copy(values + 3 * std::size_t(first_point),
+              values + 3 * std::size_t(end_point),
+              mine.begin() + 3 * std::size_t(first_point));
     Utilities::MPI::sum(mine, communicator, mine);
     std::copy(mine.begin(), mine.end(), values);
   }

@@ -21,10 +21,12 @@ namespace softface
   struct BlockColouring
   {
     /**
-     * Blocks of max(256, n / 256) points (independent of the number of
-     * threads, so that the order of the updates is too), coloured greedily
-     * in block order. @p row_start and @p neighbour: the point mesh's
-     * symmetric adjacency in compressed rows.
+     * Blocks of 256 points (independent of the number of threads and MPI
+     * ranks, so that the order of the updates is too; and as many blocks as
+     * the mesh has 256 points, so that many ranks each get blocks of every
+     * colour: an earlier rule, n / 256 points per block, made 256 blocks of
+     * any large mesh), coloured greedily in block order. @p row_start and
+     * @p neighbour: the point mesh's symmetric adjacency in compressed rows.
      */
     BlockColouring(unsigned int                     n_points,
                    const std::vector<unsigned int> &row_start,
@@ -42,12 +44,15 @@ namespace softface
     /**
      * One sweep over @p points (ascending): @p update(b, begin, end) for
      * every block b, with points[begin..end) the ones in b; the blocks of a
-     * colour on the threads at once, the colours in turn.
+     * colour on the threads at once, the colours in turn, and
+     * @p after_colour(c), if given, once the blocks of colour c are done
+     * (on several MPI ranks: the exchange of PointExchange).
      */
     void
-    sweep(const std::vector<unsigned int> &points,
-          const std::function<void(unsigned int, std::size_t, std::size_t)>
-            &update) const;
+    sweep(
+      const std::vector<unsigned int>                                   &points,
+      const std::function<void(unsigned int, std::size_t, std::size_t)> &update,
+      const std::function<void(unsigned int)> &after_colour = {}) const;
 
     /// Block b holds the points block_start[b] .. block_start[b+1]-1.
     std::vector<unsigned int> block_start;

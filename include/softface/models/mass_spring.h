@@ -12,6 +12,7 @@
 namespace softface
 {
   class PointExchange;
+  struct BlockColouring;
 
   namespace Models
   {
@@ -35,11 +36,11 @@ namespace softface
      * tetrahedra (a spring that flips over inverts the tetrahedra around it)
      * are counted and reported.
      *
-     * On several MPI ranks (issue 20) each rank moves the points it owns in
-     * a DistributedLayout (PointExchange): its interior points, then the
-     * ranks' border points colour by colour of the ranks with a ghost
-     * exchange after each colour; a ghost that moved wakes its neighbours,
-     * and the sweeps end when no rank has a point to move.
+     * On several MPI ranks (issue 20) each rank moves the points of its
+     * range of blocks (PointExchange), the colours in turn with a ghost
+     * exchange after each: the serial sweep, update for update, so the
+     * answer and the sweeps are the serial ones. A ghost that moved wakes
+     * its neighbours, and the sweeps end when no rank has a point to move.
      */
     class MassSpring : public Interface
     {
@@ -106,7 +107,9 @@ namespace softface
       /// On several MPI ranks: the points this rank moves (issue 20).
       std::unique_ptr<PointExchange> exchange;
       std::unique_ptr<PointMesh>     mesh;
-      std::vector<Spring>            spring_list;
+      /// The order of a sweep's updates (BlockColouring).
+      std::unique_ptr<BlockColouring> colouring;
+      std::vector<Spring>             spring_list;
       // Per point: its springs run along its neighbours (mesh->row_start,
       // ->neighbour); the spring of each such edge, the sum of the point's
       // spring constants, and the tetrahedra around the point (CSR).

@@ -47,14 +47,12 @@ namespace softface
      * answer of the same equations, which the model solves itself: its
      * tensors as one sparse matrix, factorised once per scene.
      *
-     * On several MPI ranks (issue 20) each rank sweeps the points it owns in
-     * a DistributedLayout (PointExchange): a sweep updates every rank's
-     * interior points at once, then the points on the ranks' borders colour
-     * by colour of the ranks, with a ghost exchange after each colour, so
-     * that it stays one Gauss-Seidel sweep over all points and converges to
-     * the same answer. Every decision of the stop criterion is taken on
-     * global figures, so every rank stops after the same sweep; each rank
-     * still builds every tensor.
+     * On several MPI ranks (issue 20) each rank sweeps the points of its
+     * range of blocks (PointExchange), the colours in turn with a ghost
+     * exchange after each: the serial sweep, update for update. Every
+     * decision of the stop criterion is taken on global figures, so the
+     * ranks' answer, sweeps and stop are the serial ones; each rank still
+     * builds every tensor.
      */
     class MassTensor : public Interface
     {

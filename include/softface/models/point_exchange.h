@@ -2,12 +2,12 @@
 #define softface_models_point_exchange_h
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/lac/la_parallel_vector.h>
+#include <deal.II/base/partitioner.h>
 
-#include <softface/core/distributed_layout.h>
+#include <softface/models/block_colouring.h>
 #include <softface/models/point_mesh.h>
 
-#include <array>
+#include <memory>
 #include <vector>
 
 namespace softface
@@ -15,37 +15,37 @@ namespace softface
   using namespace dealii;
 
   /**
-   * The points of a point-mesh model (mass tensor, mass spring) on the ranks
-   * of a DistributedLayout (issue 20). A rank updates the points whose DoFs
-   * it owns in the layout, each point on exactly one rank; the other points
-   * it holds are ghosts, which it reads and does not write. exchange() sends
-   * every owned value to the ranks that hold it as a ghost (deal.II's
-   * LinearAlgebra::distributed::Vector on the layout's owned and relevant
-   * DoFs).
+   * The points of a point-mesh model (mass tensor, mass spring) on several
+   * MPI ranks (issue 20). A rank updates the points of a range of the
+   * model's blocks (BlockColouring): consecutive blocks, so a compact piece
+   * of the mesh in locality order, balanced by their free points. The other
+   * points it reads are ghosts, which it does not write.
    *
-   * A sweep stays a Gauss-Seidel sweep over all points, in an order of its
-   * own: first every rank's interior points (no neighbour on another rank)
-   * at once, then the border points colour by colour, the ranks coloured so
-   * that no two neighbouring ranks share a colour, with an exchange after
-   * each colour. Then every update reads its neighbours' latest values, as
-   * in serial, and over-relaxation converges as it does in serial; a sweep
-   * that let the ranks' borders lag a sweep behind (Jacobi between ranks)
-   * diverged with the mass tensor model's factor 1.8.
+   * A sweep on the ranks is the serial sweep, update for update: the colours
+   * in turn, each rank over its blocks of the colour, and after each colour
+   * exchange() sends the values of that colour's points to the ranks that
+   * read them. A serial sweep visits the same blocks in the same order, and
+   * no two blocks of a colour are neighbours, so every update reads the
+   * values it reads in serial, and the ranks' answers, sweeps and stop
+   * decisions are the serial ones. (An earlier design swept the ranks'
+   * interior points first and their borders last: another order, which
+   * over-relaxation converged through more slowly, 29 % more updates on a
+   * 2M-tetrahedron cube.) Ownership therefore follows the blocks rather
+   * than the FEM models' DistributedLayout.
    *
    * Values live in the serial point numbering on every rank (three doubles
-   * per point, as the scene's DoFs), so a sweep reads its neighbours as in
-   * serial.
+   * per point), so a sweep reads its neighbours as in serial.
    */
   class PointExchange
   {
   public:
     /**
-     * The layout's owned DoFs decide who owns each of @p mesh's points; a
-     * point is on the border if a free neighbour is another rank's (join
-     * points never move). Collective.
+     * The ranks' ranges of @p colouring's blocks, and for each colour who
+     * reads which of the colour's points. Collective.
      */
-    PointExchange(const DistributedLayout &layout,
-                  const Models::PointMesh &mesh);
+    PointExchange(const BlockColouring    &colouring,
+                  const Models::PointMesh &mesh,
+                  const MPI_Comm           communicator);
 
     const MPI_Comm communicator;
 
@@ -53,63 +53,58 @@ namespace softface
     bool
     owns(const unsigned int point) const
     {
-      return owned[point] != 0;
-    }
-
-    /// @p points (ascending, owned) split into those without and with a
-    /// free neighbour on another rank, in the same order.
-    void
-    split(const std::vector<unsigned int> &points,
-          std::vector<unsigned int>       &interior,
-          std::vector<unsigned int>       &border) const;
-
-    /// The colour of this rank's border points, and how many colours.
-    unsigned int
-    colour() const
-    {
-      return rank_colour;
-    }
-    unsigned int
-    n_colours() const
-    {
-      return n_rank_colours;
+      return point >= first_point && point < end_point;
     }
 
     /// Points owned by this rank and held as ghosts, for reports.
     unsigned int
-    n_owned_points() const;
+    n_owned_points() const
+    {
+      return end_point - first_point;
+    }
     unsigned int
-    n_ghost_points() const;
+    n_ghost_points() const
+    {
+      return n_ghosts;
+    }
 
     /**
-     * Send this rank's owned values to the ranks that read them and take in
-     * the ghost values. @p values holds 3 doubles per point in the serial
-     * numbering. Ghost points whose value changed by more than
-     * @p moved_threshold (Euclidean) are appended to @p moved. Collective.
+     * After the blocks of colour @p colour: send this rank's values of that
+     * colour's points to the ranks that read them, and take in theirs.
+     * @p values holds 3 doubles per point in the serial numbering. Ghost
+     * points that moved by more than @p moved_threshold (Euclidean, compared
+     * as a sweep compares its steps) are appended to @p moved. Collective.
      */
     void
-    exchange(double *const              values,
+    exchange(const unsigned int         colour,
+             double *const              values,
              const double               moved_threshold,
              std::vector<unsigned int> &moved) const;
+
+    /// exchange() for every colour (after a Jacobi sweep). Collective.
+    void
+    exchange_all(double *const              values,
+                 const double               moved_threshold,
+                 std::vector<unsigned int> &moved) const;
 
     /// Every point's value from its owner, on every rank. Collective.
     void
     gather(double *const values) const;
 
   private:
-    unsigned int n_points;
-    /// Per point: 0 not owned, 1 owned interior, 2 owned border.
-    std::vector<char> owned;
-    /// Owned DoFs: the buffer's local index and the serial DoF.
-    std::vector<std::array<unsigned int, 2>> owned_dofs;
-    /// Those that other ranks read (the ones exchange() sends).
-    std::vector<std::array<unsigned int, 2>> exported_dofs;
-    /// Ghost points, and the buffer's local index of each component.
-    std::vector<unsigned int>                          ghost_points;
-    std::vector<std::array<unsigned int, 3>>           ghost_local;
-    unsigned int                                       rank_colour    = 0;
-    unsigned int                                       n_rank_colours = 1;
-    mutable LinearAlgebra::distributed::Vector<double> buffer;
+    unsigned int n_points    = 0;
+    unsigned int first_point = 0, end_point = 0;
+    unsigned int n_ghosts = 0;
+
+    /// Who reads which points of one colour: the ghost DoFs (3 per point,
+    /// ascending) of this rank in the colour's blocks of other ranks.
+    struct ColourExchange
+    {
+      std::shared_ptr<const Utilities::MPI::Partitioner> partitioner;
+      std::vector<unsigned int>                          ghost_points;
+      mutable std::vector<double> ghost_values, send_buffer;
+    };
+    std::vector<ColourExchange> colours;
   };
 
   /// The points a model updates on this rank: @p mesh's free points, with
