@@ -101,6 +101,11 @@ if "--report-only" in options:
     with open(rows_file) as f:
         saved = json.load(f)
     rows, SIZES, REPS = saved["rows"], saved["sizes"], saved["reps"]
+    # A quick run's figures must not land in doc/results (nor a full run's in the work dir).
+    saved_quick = saved.get("quick", saved["sizes"] == [30000])
+    if saved_quick != quick:
+        sys.exit("scaling: the work dir holds a " + ("--quick" if saved_quick else "full") +
+                 " run; report it with --report-only" + (" --quick" if saved_quick else ""))
 else:
     rows = []
     for n in SIZES:
@@ -113,7 +118,7 @@ else:
                       f"MSM sweeps {r['mass spring/iterations']}, Newton "
                       f"{r['nonlinear fem/iterations']}", flush=True)
     with open(rows_file, "w") as f:
-        json.dump({"rows": rows, "sizes": SIZES, "reps": REPS}, f)
+        json.dump({"rows": rows, "sizes": SIZES, "reps": REPS, "quick": quick}, f)
 
 # Per model: (label, serial run's keys, distributed run's keys). The serial linear FEM's
 # phases are sparsity, assemble, eliminate join DoFs, preconditioner, solve; the distributed
