@@ -14,7 +14,6 @@
 // - the mass spring model on the same scenes.
 
 #include <softface/core/displacement.h>
-#include <softface/core/distributed_layout.h>
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_spring.h>
 #include <softface/models/mass_tensor.h>
@@ -40,8 +39,6 @@ namespace
         const Vector<double> &prescribed)
   {
     model.set_communicator(communicator);
-    model.set_shared_layout(std::make_shared<SharedDistributedLayout>(
-      communicator, DistributedLayout::Partitioner::cell_order));
     model.setup(scene);
     Vector<double> u;
     model.solve(prescribed, u);
@@ -184,7 +181,7 @@ SOFTFACE_TEST(distributed_point_models)
     check_same_as_serial(cube, answer, sweeps);
   }
 
-  // Held on one face only, the bone moved: with the cube's cells in slabs,
+  // Held on one face only, the bone moved: with the points' blocks in ranges,
   // a rank owns no join point, and the held face is one rank's.
   Scene one_face;
   make_cube_held_at_bottom(one_face, 8000);

@@ -2,6 +2,7 @@
 // DoF layout, the tissue, and which vertices are join points of which bone
 // segment (seed 3.3), with the checks that make the problem well posed.
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_accessor.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -13,6 +14,10 @@
 #include <softface/io/mesh_reader.h>
 #include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
+
+#include <boost/serialization/string.hpp>
+#include <boost/serialization/utility.hpp>
+#include <boost/serialization/vector.hpp>
 
 #include <map>
 #include <numeric>
@@ -191,9 +196,29 @@ namespace softface
                                segment.seed_point[1],
                                segment.seed_point[2]}}});
           }
-        std::ostringstream quiet;
-        const auto         model = Patient::backend().build_patient_model(
-          patient, seeds, Patient::Stage::mesh, log != nullptr ? *log : quiet);
+        // On several MPI ranks rank 0 alone runs the pipeline, which writes
+        // its stages into the work directory (and Mesh_3 does not make the
+        // same mesh twice); the others read the mesh it wrote (issue 20).
+        const MPI_Comm world   = MPI_COMM_WORLD;
+        const bool     several = Utilities::MPI::n_mpi_processes(world) > 1;
+        Patient::PatientModel model;
+        if (Utilities::MPI::this_mpi_process(world) == 0)
+          {
+            std::ostringstream quiet;
+            model =
+              Patient::backend().build_patient_model(patient,
+                                                     seeds,
+                                                     Patient::Stage::mesh,
+                                                     log != nullptr ? *log :
+                                                                      quiet);
+          }
+        if (several)
+          {
+            model.mesh_file = Utilities::MPI::broadcast(world, model.mesh_file);
+            model.segment_boundary_ids =
+              Utilities::MPI::broadcast(world, model.segment_boundary_ids);
+            model.figures = Utilities::MPI::broadcast(world, model.figures);
+          }
         patient_figures = model.figures;
         cell_name       = Mesh::read_file(model.mesh_file, triangulation);
         resolve_shared_join_points = true;

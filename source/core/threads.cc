@@ -93,8 +93,8 @@ namespace softface
             task(i);
           return;
         }
-      // One task per grain: the tasks are few and large (a part of the
-      // mesh), and TBB balances them over the threads.
+      // One task per grain: TBB balances them over the threads (a point
+      // model's blocks are 256 points, about 50 microseconds of work).
       dealii::parallel::apply_to_subranges(
         0u,
         n_tasks,

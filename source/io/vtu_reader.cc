@@ -888,11 +888,15 @@ namespace softface
                     throw Error("it has no DataArray '" + name +
                                 "' in PointData");
                   }
-                const unsigned int components =
+                const std::uint64_t components =
                   whole_number(attribute(*array, "NumberOfComponents", "1"),
                                "NumberOfComponents of '" + name + "'");
-                if (components == 0 || (field.n_components != 0 &&
-                                        components != field.n_components))
+                // (9: a 3x3 tensor, the most VTK's own filters write.)
+                if (components < 1 || components > 9)
+                  throw Error("its DataArray '" + name + "' has " +
+                              std::to_string(components) +
+                              " components (softface reads 1 to 9)");
+                if (field.n_components != 0 && components != field.n_components)
                   throw Error("its DataArray '" + name + "' has " +
                               std::to_string(components) +
                               " components, the pieces before it " +

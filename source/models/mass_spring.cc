@@ -168,9 +168,6 @@ namespace softface
       add_detail("springs", spring_list.size());
       timed.stop();
 
-      // On several MPI ranks each moves the points it owns (issue 20). A
-      // constrained step moves its partner, which another rank may own:
-      // with vertex constraints every rank runs the model whole.
       // A constrained update moves its partner too, further than a block's
       // colour keeps apart: such scenes sweep in plain order on one thread.
       colouring = scene->has_vertex_constraints() ?
@@ -178,6 +175,9 @@ namespace softface
                     std::make_unique<BlockColouring>(mesh->n_points(),
                                                      mesh->row_start,
                                                      mesh->neighbour);
+      // On several MPI ranks each moves the points of its blocks (issue 20).
+      // A constrained step moves its partner, which another rank may own:
+      // with vertex constraints every rank runs the model whole.
       exchange.reset();
       const unsigned int n_ranks =
         Utilities::MPI::n_mpi_processes(communicator);
@@ -540,7 +540,11 @@ namespace softface
                           if (mine[other_end[i]])
                             active.queue(other_end[i], queued);
                       };
-                      queue_around(j);
+                      // A step lost in rounding moved nothing (a stop
+                      // threshold of 0): nothing to wake, as a rank that
+                      // reads j as a ghost sees (PointExchange).
+                      if (paired || x[j] != old)
+                        queue_around(j);
                       if (paired)
                         queue_around(partner);
                     }

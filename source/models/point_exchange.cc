@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace softface
 {
@@ -25,7 +26,8 @@ namespace softface
     const auto        &is_free   = mesh.is_free;
     const auto        &start     = colouring.block_start;
     const unsigned int n_blocks  = colouring.n_blocks();
-    AssertThrow(row_start.size() == n_points + 1 && start.back() == n_points,
+    AssertThrow(row_start.size() == n_points + 1 &&
+                  is_free.size() == n_points && start.back() == n_points,
                 ExcMessage("The point mesh does not match the colouring."));
 
     // Consecutive blocks per rank, as many free points each as can be: a
@@ -50,6 +52,16 @@ namespace softface
     };
     first_point = start[first_block(rank)];
     end_point   = start[first_block(rank + 1)];
+    // Every rank's range, for gather().
+    AssertThrow(3 * std::size_t(n_points) <=
+                  std::size_t(std::numeric_limits<int>::max()),
+                ExcMessage("Too many points for one MPI message."));
+    for (unsigned int r = 0; r < n_ranks; ++r)
+      {
+        value_offsets.push_back(3 * start[first_block(r)]);
+        value_counts.push_back(3 * start[first_block(r + 1)] -
+                               value_offsets.back());
+      }
 
     std::vector<unsigned int> colour_of_block(n_blocks);
     for (unsigned int c = 0; c < colouring.colours.size(); ++c)
@@ -164,11 +176,15 @@ namespace softface
   void
   PointExchange::gather(double *const values) const
   {
-    std::vector<double> mine(3 * static_cast<std::size_t>(n_points), 0.);
-    std::copy(values + 3 * std::size_t(first_point),
-              values + 3 * std::size_t(end_point),
-              mine.begin() + 3 * std::size_t(first_point));
-    Utilities::MPI::sum(mine, communicator, mine);
-    std::copy(mine.begin(), mine.end(), values);
+    // Each rank's range in place, as its owner holds it.
+    const int ierr = MPI_Allgatherv(MPI_IN_PLACE,
+                                    0,
+                                    MPI_DATATYPE_NULL,
+                                    values,
+                                    value_counts.data(),
+                                    value_offsets.data(),
+                                    MPI_DOUBLE,
+                                    communicator);
+    AssertThrowMPI(ierr);
   }
 } // namespace softface

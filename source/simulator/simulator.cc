@@ -325,26 +325,6 @@ namespace softface
       Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
     state->writes_outputs =
       Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
-    if (n_ranks > 1)
-      {
-        // Every rank builds the scene as a serial run does; a patient's
-        // stages and the skin write files while they do (issue 20).
-        prm.enter_subsection("Scene");
-        const bool patient = prm.get("Mesh source") == "patient";
-        prm.leave_subsection();
-        prm.enter_subsection("Skin");
-        const std::string skin_surface = prm.get("Skin surface");
-        prm.leave_subsection();
-        if (patient || (skin_surface != "auto" && skin_surface != "none"))
-          throw Error(filename + ": " +
-                      (patient ? std::string("a patient scene (Scene/Mesh "
-                                             "source = patient)") :
-                                 std::string("a skin surface (Skin/Skin "
-                                             "surface)")) +
-                      " runs on one MPI rank only for now, not on " +
-                      std::to_string(n_ranks) + ".");
-      }
-
     OutputParameters &output = state->output;
     output.parse_parameters(prm);
     reference     = output.reference_model;
@@ -477,10 +457,20 @@ namespace softface
           }
         prm.leave_subsection();
         skin_parameters.parse_parameters(prm, input_directory, patient_skin);
+        // A truth scene is a run of its own, whose files every rank would
+        // test and remove while rank 0 writes them (issue 20).
+        if (!skin_parameters.truth_scene.empty() && n_ranks > 1)
+          throw Error("Skin/Post-operative skin: a truth scene ('" +
+                      skin_parameters.truth_scene +
+                      "') runs on one MPI rank only for now, not on " +
+                      std::to_string(n_ranks) +
+                      "; run it alone first and give its skin_<model>.ply.");
         if (!skin_parameters.truth_scene.empty())
           skin_parameters.post_operative_skin =
             post_operative_skin_of(skin_parameters.truth_scene, out);
-        if (!skin_parameters.skin_surface.empty())
+        // On several ranks rank 0 alone maps and writes the skins: an
+        // error it meets there ends every rank (main()).
+        if (!skin_parameters.skin_surface.empty() && state->writes_outputs)
           skin = std::make_unique<SkinOutput>(skin_parameters,
                                               scene,
                                               output.directory,

@@ -95,6 +95,8 @@ namespace softface
     unsigned int n_points    = 0;
     unsigned int first_point = 0, end_point = 0;
     unsigned int n_ghosts = 0;
+    /// Every rank's values: where they begin and how many (gather()).
+    std::vector<int> value_offsets, value_counts;
 
     /// Who reads which points of one colour: the ghost DoFs (3 per point,
     /// ascending) of this rank in the colour's blocks of other ranks.

@@ -1,0 +1,146 @@
+// A patient scene on several MPI ranks (issue 20), by ctest on 2 ranks
+// (mpi_run_patient.mpirun=2.output; Mesh_3 on rank 0 beside a third rank
+// that waits would oversubscribe this machine's two cores): rank 0 alone
+// runs the pipeline (tests/mpi_run_patient.prm, the phantom of
+// run_patient.prm), which writes its stages, and every rank reads the mesh
+// it made, so the ranks hold the same mesh (same cells, vertices and
+// coordinates on every rank; Mesh_3 does not make the same mesh twice).
+// On that mesh linear FEM on the ranks equals the serial model to 1e-8
+// relative, the mass tensor model equals its serial run to the last bit,
+// and nonlinear FEM runs on the ranks too. Rank 0 alone maps and writes the
+// skins (skin.csv, a skin per model) and the patient's figures. A truth
+// scene as the post-operative skin is refused on every rank.
+
+#include <deal.II/base/mpi.h>
+
+#include <softface/core/planning_list.h>
+#include <softface/simulator/simulator.h>
+
+#include "mpi_runs.h"
+#include "scenes.h"
+#include "tests.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+using namespace softface_tests;
+
+SOFTFACE_TEST(mpi_run_patient)
+{
+  const MPI_Comm     comm    = MPI_COMM_WORLD;
+  const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  const bool         rank_0  = Utilities::MPI::this_mpi_process(comm) == 0;
+  deallog << "ranks: " << n_ranks << std::endl;
+  if (rank_0)
+    std::filesystem::remove_all("output/mpi_run_patient");
+  MPI_Barrier(comm);
+
+  std::ostringstream log, errors;
+  Simulator          simulator;
+  const int rc = simulator.run(source_file("mpi_run_patient.prm"), log, errors);
+  check_equal("largest exit code over the ranks",
+              Utilities::MPI::max(rc, comm),
+              0);
+
+  // The same mesh on every rank.
+  const Scene &scene   = simulator.scene();
+  double       sum_xyz = 0.;
+  for (const auto &vertex : scene.triangulation.get_vertices())
+    sum_xyz += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
+  const auto same = [&](const std::string &what, const double value) {
+    check_equal(what + ": ranks that differ from rank 0",
+                Utilities::MPI::sum(
+                  int(value != Utilities::MPI::broadcast(comm, value, 0)),
+                  comm),
+                0);
+  };
+  check_within("tetrahedra", scene.triangulation.n_active_cells(), 4000, 16000);
+  same("tetrahedra", scene.triangulation.n_active_cells());
+  same("vertices", scene.n_vertices());
+  same("sum of x + 2y + 3z over the vertices", sum_xyz);
+  for (unsigned int s = 0; s < scene.segments.size(); ++s)
+    same(scene.segments[s].name + ": join points", scene.n_join_vertices(s));
+
+  const auto &runs = simulator.runs();
+  check_equal("model runs", runs.size(), 3);
+  for (const auto &run : runs)
+    {
+      check_equal(run.label() + " failed", run.failed, false);
+      check_equal(run.label() + " says it ran on the ranks",
+                  ran_on_the_ranks(run, n_ranks),
+                  true);
+    }
+
+  // Serial runs of the same models on the same scene. Mesh_3 makes another
+  // mesh each run: only whether a figure is within its bound is printed
+  // (the figure itself when it is not).
+  const Vector<double> prescribed =
+    simulator.plannings().plans[0].planning.prescribed_displacement(scene);
+  const auto within = [](const std::string &what,
+                         const double       value,
+                         const double       low,
+                         const double       high) {
+    deallog << what << ": "
+            << (value >= low && value <= high ?
+                  std::string("within bounds") :
+                  std::to_string(value) + ", out of bounds")
+            << std::endl;
+  };
+  within("linear fem: relative difference to the serial model (<= 1e-8)",
+         relative_difference(runs[0].displacement,
+                             serial_linear_fem(scene, prescribed)),
+         0.,
+         1e-8);
+  within("linear fem: largest |u_i| (at least the mandible's 5 mm)",
+         runs[0].displacement.linfty_norm(),
+         5. - 1e-9,
+         20.);
+  check_equal("mass tensor: largest difference to a serial run (mm)",
+              largest_difference(runs[1].displacement,
+                                 serial_answer("mass tensor",
+                                               simulator.parameters(),
+                                               scene,
+                                               prescribed)),
+              0.);
+
+  // Rank 0 wrote the patient's figures and the skins.
+  MPI_Barrier(comm);
+  if (rank_0)
+    for (const std::string file : {"patient.csv",
+                                   "skin.csv",
+                                   "skin_linear_fem.ply",
+                                   "skin_mass_tensor.vtp",
+                                   "skin_nonlinear_fem.ply",
+                                   "solution.pvtu"})
+      check_equal(file + " written",
+                  std::filesystem::exists("output/mpi_run_patient/" + file),
+                  true);
+
+  // A truth scene would run as a scene of its own while rank 0 writes its
+  // files: refused, on every rank alike.
+  int refused = 0;
+  {
+    std::ofstream prm("mpi_run_patient_truth.prm");
+    prm << "include " << source_file("mpi_run_patient.prm") << '\n'
+        << "subsection Skin\n  set Post-operative skin = truth.prm\nend\n";
+  }
+  try
+    {
+      Simulator          truth;
+      std::ostringstream quiet;
+      truth.run("mpi_run_patient_truth.prm", quiet, quiet);
+    }
+  catch (const Error &e)
+    {
+      const std::string message = e.what();
+      refused = message.find("truth scene") != std::string::npos &&
+                message.find("one MPI rank only") != std::string::npos;
+      if (rank_0)
+        deallog << "truth scene: " << message.substr(message.find("Skin/"))
+                << std::endl;
+    }
+  check_equal("ranks that refused the truth scene",
+              Utilities::MPI::sum(refused, comm),
+              int(n_ranks));
+}
