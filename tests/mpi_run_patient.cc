@@ -8,8 +8,9 @@
 // On that mesh linear FEM on the ranks equals the serial model to 1e-8
 // relative, the mass tensor model equals its serial run to the last bit,
 // and nonlinear FEM runs on the ranks too. Rank 0 alone maps and writes the
-// skins (skin.csv, a skin per model) and the patient's figures. A truth
-// scene as the post-operative skin is refused on every rank.
+// skins (skin.csv, a skin per model) and the patient's figures; the other
+// ranks have no skin output. A truth scene as the post-operative skin is
+// refused on every rank, before any work.
 
 #include <deal.II/base/mpi.h>
 
@@ -117,19 +118,28 @@ SOFTFACE_TEST(mpi_run_patient)
                   std::filesystem::exists("output/mpi_run_patient/" + file),
                   true);
 
+  // Rank 0 alone mapped the skins.
+  check_equal("ranks with a skin output",
+              Utilities::MPI::sum(int(simulator.skin() != nullptr), comm),
+              1);
+  check_equal("rank 0 has it", simulator.skin() != nullptr, rank_0);
+
   // A truth scene would run as a scene of its own while rank 0 writes its
-  // files: refused, on every rank alike.
-  int refused = 0;
-  {
-    std::ofstream prm("mpi_run_patient_truth.prm");
-    prm << "include " << source_file("mpi_run_patient.prm") << '\n'
-        << "subsection Skin\n  set Post-operative skin = truth.prm\nend\n";
-  }
+  // files: refused before any work, on every rank alike.
+  int               refused   = 0;
+  const std::string truth_prm = "mpi_run_patient_truth.prm";
+  if (rank_0)
+    {
+      std::ofstream prm(truth_prm);
+      prm << "include " << source_file("mpi_run_patient.prm") << '\n'
+          << "subsection Skin\n  set Post-operative skin = truth.prm\nend\n";
+    }
+  MPI_Barrier(comm);
   try
     {
       Simulator          truth;
       std::ostringstream quiet;
-      truth.run("mpi_run_patient_truth.prm", quiet, quiet);
+      truth.run(truth_prm, quiet, quiet);
     }
   catch (const Error &e)
     {
@@ -143,4 +153,7 @@ SOFTFACE_TEST(mpi_run_patient)
   check_equal("ranks that refused the truth scene",
               Utilities::MPI::sum(refused, comm),
               int(n_ranks));
+  MPI_Barrier(comm);
+  if (rank_0)
+    std::filesystem::remove(truth_prm);
 }

@@ -9,9 +9,9 @@ usage: run.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick] [--report-only]
 Writes RESULTS/scaling.md, scaling.csv, scaling.png; the raw figures go to WORK/rows.json
 (WORK/rows_quick.json for --quick), from which --report-only writes the report again. Fails if
 the two ranks' answers differ from the serial ones by more than 1e-8 relative for linear and
-nonlinear FEM (CG to 1e-10, Newton to a residual of 1e-10), or at all for the mass tensor and
-mass spring models, or if these take other sweeps: they sweep on the ranks in the serial order
-(PointExchange).
+nonlinear FEM (CG to 1e-10, Newton to a residual of 1e-10), or at all (as written, 12 digits)
+for the mass tensor and mass spring models, or if these take other sweeps: they sweep on the
+ranks in the serial order (PointExchange).
 """
 import csv, json, math, os, re, subprocess, sys, time
 from statistics import median

@@ -10,6 +10,7 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
+#include <softface/core/on_rank_0.h>
 #include <softface/core/scene.h>
 #include <softface/io/mesh_reader.h>
 #include <softface/patient/backend.h>
@@ -19,6 +20,7 @@
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 
+#include <filesystem>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -198,29 +200,48 @@ namespace softface
           }
         // On several MPI ranks rank 0 alone runs the pipeline, which writes
         // its stages into the work directory (and Mesh_3 does not make the
-        // same mesh twice); the others read the mesh it wrote (issue 20).
+        // same mesh twice); the others read the mesh it wrote (issue 20),
+        // which must be on a file system they all see.
         const MPI_Comm world   = MPI_COMM_WORLD;
         const bool     several = Utilities::MPI::n_mpi_processes(world) > 1;
         Patient::PatientModel model;
-        if (Utilities::MPI::this_mpi_process(world) == 0)
-          {
-            std::ostringstream quiet;
-            model =
-              Patient::backend().build_patient_model(patient,
-                                                     seeds,
-                                                     Patient::Stage::mesh,
-                                                     log != nullptr ? *log :
-                                                                      quiet);
-          }
+        std::string           read_from; // absolute: the ranks' folders differ
+        on_rank_0(world, [&]() {
+          std::ostringstream quiet;
+          model =
+            Patient::backend().build_patient_model(patient,
+                                                   seeds,
+                                                   Patient::Stage::mesh,
+                                                   log != nullptr ? *log :
+                                                                    quiet);
+          read_from = std::filesystem::absolute(model.mesh_file).string();
+        });
         if (several)
           {
             model.mesh_file = Utilities::MPI::broadcast(world, model.mesh_file);
+            read_from       = Utilities::MPI::broadcast(world, read_from);
             model.segment_boundary_ids =
               Utilities::MPI::broadcast(world, model.segment_boundary_ids);
             model.figures = Utilities::MPI::broadcast(world, model.figures);
           }
         patient_figures = model.figures;
-        cell_name       = Mesh::read_file(model.mesh_file, triangulation);
+        cell_name       = Mesh::read_file(read_from, triangulation);
+        if (several)
+          {
+            // An older mesh of the same name on a rank's own disk would
+            // pass silently: the ranks compare what they read.
+            double checksum = triangulation.n_active_cells();
+            for (const auto &vertex : triangulation.get_vertices())
+              checksum += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
+            const bool differs =
+              checksum != Utilities::MPI::broadcast(world, checksum);
+            if (Utilities::MPI::max(int(differs), world) != 0)
+              throw Error("Scene: the ranks read different meshes from '" +
+                          read_from +
+                          "', which rank 0's patient pipeline wrote: the "
+                          "patient's work directory must be on a file "
+                          "system every rank sees.");
+          }
         resolve_shared_join_points = true;
         for (unsigned int s = 0; s < segments.size(); ++s)
           for (const auto id : model.segment_boundary_ids[s])

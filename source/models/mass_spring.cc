@@ -555,7 +555,7 @@ namespace softface
               // moved changed the force on its neighbours here.
               const auto exchange_colour = [&](const unsigned int c) {
                 moved_ghosts.clear();
-                exchange->exchange(c, &x[0][0], 0., moved_ghosts);
+                exchange->exchange(c, &x[0][0], moved_ghosts);
                 for (const unsigned int g : moved_ghosts)
                   for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
                     if (mine[other_end[i]])

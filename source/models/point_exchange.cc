@@ -114,6 +114,24 @@ namespace softface
                           const double               moved_threshold,
                           std::vector<unsigned int> &moved) const
   {
+    exchange(colour, values, moved_threshold, false, moved);
+  }
+
+  void
+  PointExchange::exchange(const unsigned int         colour,
+                          double *const              values,
+                          std::vector<unsigned int> &moved) const
+  {
+    exchange(colour, values, 0., true, moved);
+  }
+
+  void
+  PointExchange::exchange(const unsigned int         colour,
+                          double *const              values,
+                          const double               moved_threshold,
+                          const bool                 any_change,
+                          std::vector<unsigned int> &moved) const
+  {
     const ColourExchange    &x = colours[colour];
     std::vector<MPI_Request> requests;
     x.partitioner->export_to_ghosted_array_start<double>(
@@ -127,16 +145,18 @@ namespace softface
       make_array_view(x.ghost_values), requests);
     for (unsigned int g = 0; g < x.ghost_points.size(); ++g)
       {
-        double *const v      = values + 3 * std::size_t(x.ghost_points[g]);
-        double        change = 0.;
+        double *const v       = values + 3 * std::size_t(x.ghost_points[g]);
+        double        change  = 0.;
+        bool          changed = false;
         for (unsigned int c = 0; c < 3; ++c)
           {
             const double received = x.ghost_values[3 * g + c];
             change += (received - v[c]) * (received - v[c]);
+            changed |= received != v[c];
             v[c] = received;
           }
         // As the owner's sweep compares the step it took.
-        if (std::sqrt(change) > moved_threshold)
+        if (any_change ? changed : std::sqrt(change) > moved_threshold)
           moved.push_back(x.ghost_points[g]);
       }
   }

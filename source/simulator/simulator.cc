@@ -9,6 +9,7 @@
 #include <softface/core/displacement.h>
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
+#include <softface/core/on_rank_0.h>
 #include <softface/core/planning.h>
 #include <softface/core/planning_list.h>
 #include <softface/core/process.h>
@@ -325,6 +326,23 @@ namespace softface
       Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
     state->writes_outputs =
       Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    // A truth scene as the post-operative skin is a run of its own, whose
+    // files every rank would test and remove while rank 0 writes them
+    // (issue 20): refused before any work.
+    if (n_ranks > 1)
+      {
+        prm.enter_subsection("Skin");
+        const std::string post_operative = prm.get("Post-operative skin");
+        prm.leave_subsection();
+        if (post_operative.size() > 4 &&
+            post_operative.substr(post_operative.size() - 4) == ".prm")
+          throw Error(
+            filename + ": Skin/Post-operative skin: a truth scene ('" +
+            post_operative + "') runs on one MPI rank only for now, not on " +
+            std::to_string(n_ranks) +
+            "; run it alone first and give its skin_<model>.ply.");
+      }
+
     OutputParameters &output = state->output;
     output.parse_parameters(prm);
     reference     = output.reference_model;
@@ -457,24 +475,18 @@ namespace softface
           }
         prm.leave_subsection();
         skin_parameters.parse_parameters(prm, input_directory, patient_skin);
-        // A truth scene is a run of its own, whose files every rank would
-        // test and remove while rank 0 writes them (issue 20).
-        if (!skin_parameters.truth_scene.empty() && n_ranks > 1)
-          throw Error("Skin/Post-operative skin: a truth scene ('" +
-                      skin_parameters.truth_scene +
-                      "') runs on one MPI rank only for now, not on " +
-                      std::to_string(n_ranks) +
-                      "; run it alone first and give its skin_<model>.ply.");
         if (!skin_parameters.truth_scene.empty())
           skin_parameters.post_operative_skin =
             post_operative_skin_of(skin_parameters.truth_scene, out);
-        // On several ranks rank 0 alone maps and writes the skins: an
-        // error it meets there ends every rank (main()).
-        if (!skin_parameters.skin_surface.empty() && state->writes_outputs)
-          skin = std::make_unique<SkinOutput>(skin_parameters,
-                                              scene,
-                                              output.directory,
-                                              out);
+        // On several ranks rank 0 alone maps and writes the skins; an error
+        // it meets is met by every rank.
+        if (!skin_parameters.skin_surface.empty())
+          on_rank_0(MPI_COMM_WORLD, [&]() {
+            skin = std::make_unique<SkinOutput>(skin_parameters,
+                                                scene,
+                                                output.directory,
+                                                out);
+          });
       }
     catch (const Error &e)
       {
@@ -569,13 +581,15 @@ namespace softface
                               " failed on other ranks and not on this one") +
                     "; the ranks cannot go on together.");
     };
-    Scene             &scene      = *the_scene;
-    const auto        &output     = state->output;
-    auto              &models     = state->models;
-    const auto        &plannings  = state->plannings;
-    const auto        &skin       = state->skin;
-    const auto        &evaluation = state->evaluation;
-    const unsigned int n_plans    = plannings.plans.size();
+    Scene      &scene     = *the_scene;
+    const auto &output    = state->output;
+    auto       &models    = state->models;
+    const auto &plannings = state->plannings;
+    const auto &skin      = state->skin;
+    // Every rank knows whether the run maps skins (rank 0 maps them).
+    const bool  maps_skins     = !state->skin_parameters.skin_surface.empty();
+    const auto &evaluation     = state->evaluation;
+    const unsigned int n_plans = plannings.plans.size();
 
     // A model that fails (no convergence, a motion it cannot follow) is
     // reported and left out; the others still run, and the exit code says
@@ -758,8 +772,11 @@ namespace softface
                   Displacement::max_norm(scene, run.displacement);
                 out << where << (use_basis ? "combination " : "solve ")
                     << run.statistics.solve_time << " s" << std::endl;
-                if (skin)
-                  skin->add_model(run.label(), scene, run.displacement);
+                // Rank 0 maps for all; its error is every rank's.
+                if (maps_skins)
+                  on_rank_0(MPI_COMM_WORLD, [&]() {
+                    skin->add_model(run.label(), scene, run.displacement);
+                  });
                 for (const auto &warning : run.statistics.warnings)
                   err << "softface: warning: " << run.label() << ": " << warning
                       << std::endl;

@@ -140,7 +140,9 @@ namespace softface
      * Read the parameters, create or read the mesh (a relative mesh file
      * name is taken relative to @p input_directory; a patient's is made by
      * the patient pipeline in @p patient_work_directory unless the scene
-     * names one, with its progress on @p log) and call setup().
+     * names one, with its progress on @p log) and call setup(). For a
+     * patient scene under MPI this is collective on MPI_COMM_WORLD: rank 0
+     * runs the pipeline and every rank reads the mesh it wrote.
      */
     void
     parse_parameters(ParameterHandler  &prm,

@@ -81,6 +81,13 @@ namespace softface
              const double               moved_threshold,
              std::vector<unsigned int> &moved) const;
 
+    /// The same, with a ghost point in @p moved if its value changed at all
+    /// (the mass spring model wakes a moved point's neighbours). Collective.
+    void
+    exchange(const unsigned int         colour,
+             double *const              values,
+             std::vector<unsigned int> &moved) const;
+
     /// exchange() for every colour (after a Jacobi sweep). Collective.
     void
     exchange_all(double *const              values,
@@ -92,6 +99,15 @@ namespace softface
     gather(double *const values) const;
 
   private:
+    /// exchange(), a ghost moved if its step exceeds @p moved_threshold
+    /// (or, if @p any_change, if any component changed).
+    void
+    exchange(const unsigned int         colour,
+             double *const              values,
+             const double               moved_threshold,
+             const bool                 any_change,
+             std::vector<unsigned int> &moved) const;
+
     unsigned int n_points    = 0;
     unsigned int first_point = 0, end_point = 0;
     unsigned int n_ghosts = 0;

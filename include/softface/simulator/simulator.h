@@ -80,7 +80,8 @@ namespace softface
     prepare(const std::string &filename, std::ostream &out = std::cout);
 
     /// After prepare(): the parameters read, the plans, the models (created,
-    /// not set up) and the skin (nullptr without one).
+    /// not set up) and the skin (nullptr without one, and on MPI ranks other
+    /// than 0, where rank 0 maps the skins for all).
     ParameterHandler &
     parameters();
     const PlanningList &
