@@ -7,7 +7,9 @@ two answers differ by more than 1e-8 relative (Newton to a residual of 1e-10).
 usage: reference.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick]
 Writes RESULTS/scaling_reference.md, .csv, .png.
 """
-import csv, os, re, subprocess, sys, time
+import csv, os, re, sys
+
+import softface_run
 
 import numpy as np
 import matplotlib
@@ -19,50 +21,21 @@ quick = "--quick" in sys.argv[6:]
 SIZES = [20000] if quick else [100000, 300000]
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-
-SCENE = """subsection Scene
-  set Mesh source = cube
-  subsection Cube
-    set Target number of tetrahedra = {n}
-  end
-end
-subsection Models
-  set Models  = reference fem
-  set Threads = 1
-end
-subsection Output
-  set Output directory          = {out}
-  set Write VTU                 = false
-  set Write nodal displacements = true
-end
-"""
-
 
 def run(n, ranks):
     tag = f"n{n}_r{ranks}"
     out_dir = os.path.join(work, tag)
     prm = os.path.join(work, tag + ".prm")
     with open(prm, "w") as f:
-        f.write(SCENE.format(n=n, out=out_dir))
-    cmd = [softface, prm] if ranks == 1 else [mpiexec, "-n", str(ranks), softface, prm]
-    start = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - start
-    if p.returncode != 0:
-        sys.exit(f"reference scaling: {' '.join(cmd)} failed:\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-    out = p.stdout
+        f.write(softface_run.cube_scene(n, ["reference fem"], out_dir, nodal=True))
+    out, wall = softface_run.run(softface, mpiexec, prm, ranks, "reference scaling")
     row = {"n": n, "ranks": ranks, "command s": wall}
     m = re.search(r"mesh generated cube: (\d+) tetrahedra, (\d+) vertices", out)
     row["tets"], row["vertices"] = int(m.group(1)), int(m.group(2))
-    phases = re.search(r"^reference fem phases \(s\):(.*)$", out, re.M).group(1)
-    for name, value in re.findall(r"([a-zA-Z][a-zA-Z ()]*?) ([\d.]+)(?=\s|$)", phases):
-        row[name.strip()] = float(value)
-    cells = re.search(r"^ *reference fem +\d+ +\d+ +\d+ +([\d.]+) +([\d.]+) +(\d+)", out, re.M)
-    row["setup s"], row["solve s"], row["newton"] = float(cells.group(1)), float(cells.group(2)), int(cells.group(3))
+    row.update(softface_run.phases(out, "reference fem"))
+    row["setup s"], row["solve s"], row["newton"] = softface_run.table_row(out, "reference fem")
     row["linear iterations"] = int(re.search(r"linear iterations (\d+)", out).group(1))
-    row["process s"] = float(re.search(r"Wall time ([\d.]+) s", out).group(1))
-    row["peak MB"] = float(re.search(r"peak memory (\d+) MB", out).group(1))
+    row["process s"], row["peak MB"] = softface_run.process_figures(out)
     row["u"] = np.loadtxt(os.path.join(out_dir, "displacements_reference_fem.csv"),
                           delimiter=",", skiprows=1)[:, 3:6]
     return row
@@ -110,11 +83,7 @@ ax.legend(fontsize=8)
 fig.tight_layout()
 fig.savefig(os.path.join(results, "scaling_reference.png"), dpi=110)
 
-try:
-    commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse",
-                             "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-except OSError:
-    commit = ""
+commit = softface_run.commit()
 md = ["# The quadratic reference on one MPI rank and on two", "",
       f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
       f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), the reference model "

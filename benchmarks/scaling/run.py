@@ -13,7 +13,9 @@ nonlinear FEM (CG to 1e-10, Newton to a residual of 1e-10), or at all (as writte
 for the mass tensor and mass spring models, or if these take other sweeps: they sweep on the
 ranks in the serial order (PointExchange).
 """
-import csv, json, math, os, re, subprocess, sys, time
+import csv, json, math, os, re, sys
+
+import softface_run
 from statistics import median
 
 import numpy as np
@@ -29,26 +31,6 @@ SIZES = [30000] if quick else [500000, 2000000]
 MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
-env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-
-SCENE = """subsection Scene
-  set Mesh source = cube
-  subsection Cube
-    set Target number of tetrahedra = {n}
-  end
-end
-subsection Models
-  set Models  = linear fem, mass tensor, mass spring, nonlinear fem
-  set Threads = 1
-end
-subsection Output
-  set Output directory          = {out}
-  set Write VTU                 = false
-  set Write nodal displacements = {nodal}
-end
-"""
-NUMBER = r"[-+]?[\d.]+(?:e[-+]?\d+)?"
-
 
 def file_name(model):
     return model.replace(" ", "_")
@@ -60,39 +42,29 @@ def run(n, ranks, rep):
     prm = os.path.join(work, tag + ".prm")
     with open(prm, "w") as f:
         # The answers are compared on the first repetition only.
-        f.write(SCENE.format(n=n, out=out_dir, nodal="true" if rep == 0 else "false"))
-    cmd = [softface, prm] if ranks == 1 else [mpiexec, "-n", str(ranks), softface, prm]
-    start = time.perf_counter()
-    p = subprocess.run(cmd, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - start
-    if p.returncode != 0:
-        sys.exit(f"scaling: {' '.join(cmd)} failed:\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
-    out = p.stdout
+        f.write(softface_run.cube_scene(n, MODELS, out_dir, nodal=rep == 0))
+    out, wall = softface_run.run(softface, mpiexec, prm, ranks, "scaling")
     row = {"tets requested": n, "ranks": ranks, "rep": rep + 1, "command s": wall}
     m = re.search(r"mesh generated cube: (\d+) tetrahedra, (\d+) vertices, \d+ free DoFs \(([\d.]+) s\)", out)
     row["tets"], row["vertices"], row["scene s"] = int(m.group(1)), int(m.group(2)), float(m.group(3))
     for model in MODELS:
-        phases = re.search(rf"^{model} phases \(s\):(.*)$", out, re.M)
-        if phases:
-            for name, value in re.findall(r"([a-zA-Z][a-zA-Z ()]*?) ([\d.]+)(?=\s|$)", phases.group(1)):
-                row[f"{model}/{name.strip()}"] = float(value)
+        for name, value in softface_run.phases(out, model).items():
+            row[f"{model}/{name}"] = value
         details = re.search(rf"^{model} details:(.*)$", out, re.M).group(1)
         for name, key in [("ghost points per rank \\(largest\\)", "ghost points"),
                           ("points per rank \\(largest\\)", "points per rank"),
                           ("inverted tetrahedra", "inverted"),
                           ("colours", "colours"),
                           ("point updates", "updates")]:
-            d = re.search(rf"  {name} ({NUMBER})", details)
+            d = re.search(rf"  {name} ({softface_run.NUMBER})", details)
             if d:
                 row[f"{model}/{key}"] = float(d.group(1))
-        cells = re.search(rf"^ *{model} +\d+ +\d+ +\d+ +([\d.]+) +([\d.]+) +(\d+)", out, re.M)
-        row[f"{model}/setup s"], row[f"{model}/solve s"] = float(cells.group(1)), float(cells.group(2))
-        row[f"{model}/iterations"] = int(cells.group(3))
+        (row[f"{model}/setup s"], row[f"{model}/solve s"],
+         row[f"{model}/iterations"]) = softface_run.table_row(out, model)
         if rep == 0:
             path = os.path.join(out_dir, f"displacements_{file_name(model)}.csv")
             row[f"{model}/u"] = np.loadtxt(path, delimiter=",", skiprows=1)[:, 3:6].tolist()
-    row["process s"] = float(re.search(r"Wall time ([\d.]+) s", out).group(1))
-    row["peak MB per rank"] = float(re.search(r"peak memory (\d+) MB", out).group(1))
+    row["process s"], row["peak MB per rank"] = softface_run.process_figures(out)
     return row
 
 
@@ -306,11 +278,7 @@ def model_rows(big):
     return out, g_cg, g_mtm
 
 
-try:
-    commit = subprocess.run(["git", "-C", os.path.dirname(os.path.abspath(__file__)), "rev-parse",
-                             "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-except OSError:
-    commit = ""
+commit = softface_run.commit()
 md = ["# Strong scaling: one MPI rank against two", "",
       f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
       f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), linear FEM `cg amg` "

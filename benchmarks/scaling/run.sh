@@ -15,14 +15,10 @@
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
-softface=${SOFTFACE:-$root/build/softface}
 work=${SCALING_WORK:-/tmp/softface-scaling}
 results=$root/doc/results
-[ -x "$softface" ] || { echo "no softface binary at $softface (build it or set SOFTFACE)"; exit 1; }
-mpiexec=$(command -v mpiexec || command -v mpirun || true)
-[ -n "$mpiexec" ] || { echo "scaling: needs mpiexec (apt-get install -y openmpi-bin)"; exit 1; }
-source "$root/scripts/bootstrap.sh"
-softface_ensure_packages python3-numpy python3-matplotlib
+name=scaling
+source "$here/prelude.sh"
 quick=()
 for option in "$@"; do
   case "$option" in

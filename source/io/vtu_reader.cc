@@ -544,15 +544,12 @@ namespace softface
         return sources;
       }
 
-      Piece
-      read_piece(const VtuFile &file, const ptree &piece)
+      // The points of a piece, checked (finite, as many as it says).
+      std::vector<Point<3>>
+      read_points(const VtuFile &file, const ptree &piece)
       {
-        const std::string points_attribute = attribute(piece, "NumberOfPoints");
-        const std::string cells_attribute  = attribute(piece, "NumberOfCells");
         const std::uint64_t n_points =
-          whole_number(points_attribute, "NumberOfPoints");
-        const std::uint64_t n_cells =
-          whole_number(cells_attribute, "NumberOfCells");
+          whole_number(attribute(piece, "NumberOfPoints"), "NumberOfPoints");
 
         // Points: the first DataArray in <Points>, whatever its Name.
         const ptree *points_array =
@@ -571,18 +568,28 @@ namespace softface
           throw Error("NumberOfPoints is " + std::to_string(n_points) +
                       " but Points holds " + std::to_string(xyz.size()) +
                       " numbers (3 per point)");
-        Piece result;
-        result.points.resize(n_points);
+        std::vector<Point<3>> points(n_points);
         for (std::size_t i = 0; i < n_points; ++i)
           {
             for (unsigned int d = 0; d < 3; ++d)
               if (!std::isfinite(xyz[3 * i + d]))
                 throw Error("point " + std::to_string(i) + " has coordinate " +
                             number_text(xyz[3 * i + d]));
-            result.points[i] =
-              Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+            points[i] = Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
           }
+        return points;
+      }
 
+      Piece
+      read_piece(const VtuFile &file, const ptree &piece)
+      {
+        // Both counts checked before any array, as a reader would expect.
+        const std::uint64_t n_points =
+          whole_number(attribute(piece, "NumberOfPoints"), "NumberOfPoints");
+        const std::uint64_t n_cells =
+          whole_number(attribute(piece, "NumberOfCells"), "NumberOfCells");
+        Piece result;
+        result.points = read_points(file, piece);
         const auto connectivity =
           array_values(file, piece, "Cells", "connectivity", n_cells);
         const auto offsets =
@@ -875,9 +882,8 @@ namespace softface
                 const ptree   &piece = *pieces.piece[p];
                 // The points as read_vtu() reads them (a piece without
                 // cells may have none).
-                const std::vector<Point<3>> points =
-                  read_piece(file, piece).points;
-                const ptree *array =
+                const std::vector<Point<3>> points = read_points(file, piece);
+                const ptree                *array =
                   find_array(piece, "PointData", [&](const auto &n) {
                     return n == name;
                   });

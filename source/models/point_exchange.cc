@@ -42,24 +42,25 @@ namespace softface
           free_before[b + 1] += is_free[j];
       }
     // Rank r's blocks begin at the first block with at least r / n_ranks of
-    // the free points before it.
-    const auto first_block = [&](const unsigned int r) {
-      unsigned int b = 0;
-      while (b < n_blocks &&
-             free_before[b] * n_ranks < free_before[n_blocks] * r)
-        ++b;
-      return r == n_ranks ? n_blocks : b;
-    };
-    first_point = start[first_block(rank)];
-    end_point   = start[first_block(rank + 1)];
+    // the free points before it (one pass for all ranks).
+    std::vector<unsigned int> first_block(n_ranks + 1, n_blocks);
+    for (unsigned int r = 0, b = 0; r < n_ranks; ++r)
+      {
+        while (b < n_blocks &&
+               free_before[b] * n_ranks < free_before[n_blocks] * r)
+          ++b;
+        first_block[r] = b;
+      }
+    first_point = start[first_block[rank]];
+    end_point   = start[first_block[rank + 1]];
     // Every rank's range, for gather().
     AssertThrow(3 * std::size_t(n_points) <=
                   std::size_t(std::numeric_limits<int>::max()),
                 ExcMessage("Too many points for one MPI message."));
     for (unsigned int r = 0; r < n_ranks; ++r)
       {
-        value_offsets.push_back(3 * start[first_block(r)]);
-        value_counts.push_back(3 * start[first_block(r + 1)] -
+        value_offsets.push_back(3 * start[first_block[r]]);
+        value_counts.push_back(3 * start[first_block[r + 1]] -
                                value_offsets.back());
       }
 

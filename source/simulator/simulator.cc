@@ -334,8 +334,7 @@ namespace softface
         prm.enter_subsection("Skin");
         const std::string post_operative = prm.get("Post-operative skin");
         prm.leave_subsection();
-        if (post_operative.size() > 4 &&
-            post_operative.substr(post_operative.size() - 4) == ".prm")
+        if (SkinParameters::names_truth_scene(post_operative))
           throw Error(
             filename + ": Skin/Post-operative skin: a truth scene ('" +
             post_operative + "') runs on one MPI rank only for now, not on " +

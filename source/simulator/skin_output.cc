@@ -57,6 +57,12 @@ namespace softface
     }
   } // namespace
 
+  bool
+  SkinParameters::names_truth_scene(const std::string &file)
+  {
+    return file.size() > 4 && file.substr(file.size() - 4) == ".prm";
+  }
+
   void
   SkinParameters::declare_parameters(ParameterHandler &prm)
   {
@@ -155,8 +161,7 @@ namespace softface
       skin_surface = relative(skin_surface);
     post_operative_skin = relative(prm.get("Post-operative skin"));
     truth_scene.clear();
-    if (post_operative_skin.size() > 4 &&
-        post_operative_skin.substr(post_operative_skin.size() - 4) == ".prm")
+    if (names_truth_scene(post_operative_skin))
       std::swap(truth_scene, post_operative_skin);
     if ((!post_operative_skin.empty() || !truth_scene.empty()) &&
         skin_surface.empty())

@@ -33,6 +33,11 @@ namespace softface
                      const std::string &input_directory,
                      const std::string &patient_skin);
 
+    /// Does a 'Post-operative skin' of @p file name a truth scene (a .prm
+    /// whose run makes the skin) rather than a surface?
+    static bool
+    names_truth_scene(const std::string &file);
+
     std::string skin_surface; ///< empty: no skin
     std::string post_operative_skin;
     /// A scene whose run makes the post-operative skin (a phantom's truth):
