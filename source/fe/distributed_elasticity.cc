@@ -94,45 +94,51 @@ namespace softface
           join_rows.add_line(dof);
       join_rows.close();
 
-      TrilinosWrappers::SparsityPattern sparsity(owned,
-                                                 owned,
-                                                 layout->locally_relevant_dofs,
-                                                 comm);
-      DoFTools::make_sparsity_pattern(layout->dof_handler,
-                                      sparsity,
-                                      join_rows,
-                                      /*keep_constrained_dofs=*/false,
-                                      Utilities::MPI::this_mpi_process(comm));
-      sparsity.compress();
-      stiffness.reinit(sparsity);
+      // Every cell at a DoF this rank owns, its own and ghost cells: each
+      // adds to this rank's rows only (OwnedRowsMatrix).
+      std::vector<char> relevant_is_join;
+      relevant_is_join.reserve(layout->locally_relevant_dofs.n_elements());
+      for (const auto dof : layout->locally_relevant_dofs)
+        relevant_is_join.push_back(join_rows.is_constrained(dof));
+      stiffness = std::make_unique<OwnedRowsMatrix>(
+        owned,
+        layout->locally_relevant_dofs,
+        relevant_is_join,
+        OwnedRowsMatrix::JoinCouplings::dropped,
+        comm);
+      std::vector<DoFHandler<3>::active_cell_iterator> cells;
+      std::vector<types::global_dof_index>             cell_dofs;
+      for (const auto &cell : layout->dof_handler.active_cell_iterators())
+        if (!cell->is_artificial())
+          {
+            bool at_owned_dof = false;
+            for (const unsigned int v : cell->vertex_indices())
+              at_owned_dof |= owned.is_element(cell->vertex_dof_index(v, 0));
+            if (!at_owned_dof)
+              continue;
+            cells.push_back(cell);
+            for (const unsigned int v : cell->vertex_indices())
+              for (unsigned int c = 0; c < 3; ++c)
+                cell_dofs.push_back(cell->vertex_dof_index(v, c));
+          }
+      stiffness->set_cells(cell_dofs, 12);
+      cell_dofs = {};
 
       const auto                           A = tangents(scene);
       FullMatrix<double>                   cell_matrix(12, 12);
       std::vector<types::global_dof_index> dofs(12);
-      // The stiffness's diagonal on the join rows, for the serial model's
-      // right-hand side norm (solve()).
-      diagonal.reinit(owned, comm);
-      for (const auto &cell : layout->dof_handler.active_cell_iterators())
-        if (cell->is_locally_owned())
-          {
-            cell_stiffness(*layout, A, cell, cell_matrix, dofs);
-            bool touches_join = false;
-            for (unsigned int i = 0; i < 12; ++i)
-              if (join_rows.is_constrained(dofs[i]))
-                {
-                  touches_join = true;
-                  diagonal[dofs[i]] += cell_matrix(i, i);
-                }
-            // Most cells touch no join point: straight into the matrix.
-            if (touches_join)
-              join_rows.distribute_local_to_global(cell_matrix,
-                                                   dofs,
-                                                   stiffness);
-            else
-              stiffness.add(dofs, cell_matrix);
-          }
-      stiffness.compress(VectorOperation::add);
-      diagonal.compress(VectorOperation::add);
+      for (unsigned int k = 0; k < cells.size(); ++k)
+        {
+          cell_stiffness(*layout, A, cells[k], cell_matrix, dofs);
+          for (unsigned int i = 0; i < 12; ++i)
+            if (stiffness->row(k, i) >= 0)
+              stiffness->add_row(k, i, [&](const unsigned int q) {
+                return cell_matrix(i, q);
+              });
+        }
+      // The join rows' diagonal, for the serial model's right-hand side
+      // norm (solve()).
+      join_diagonal = stiffness->eliminate_join_dofs();
       amg.reset();
     }
 
@@ -168,9 +174,9 @@ namespace softface
         std::max<types::global_dof_index>(layout->dof_handler.n_dofs(), 1);
       Teuchos::ParameterList list;
       const auto             null_space = LinearSolver::amg_parameters(
-        parameters, stiffness, points, component, centroid, list);
+        parameters, stiffness->matrix(), points, component, centroid, list);
       amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
-      amg->initialize(stiffness, list);
+      amg->initialize(stiffness->matrix(), list);
     }
 
     bool
@@ -264,11 +270,9 @@ namespace softface
       double join_norm = 0.;
       for (const auto dof : owned)
         if (joins.is_constrained(dof))
-          {
-            const double d = diagonal[dof] != 0. ? std::abs(diagonal[dof]) : 1.;
-            join_norm += Utilities::fixed_power<2>(
-              d * prescribed[layout->serial_dof(dof)]);
-          }
+          join_norm += Utilities::fixed_power<2>(
+            join_diagonal[owned.index_within_set(dof)] *
+            prescribed[layout->serial_dof(dof)]);
       const double serial_rhs_norm =
         std::sqrt(Utilities::fixed_power<2>(rhs.l2_norm()) +
                   Utilities::MPI::sum(join_norm, comm));
@@ -276,7 +280,7 @@ namespace softface
       Result                        result;
       TrilinosWrappers::MPI::Vector solution(owned, comm);
       LinearSolver::Result          cg_result;
-      result.converged              = cg(stiffness,
+      result.converged              = cg(stiffness->matrix(),
                             *amg,
                             rhs,
                             solution,
@@ -286,7 +290,7 @@ namespace softface
       result.iterations             = cg_result.iterations;
       const bool negative_curvature = cg_result.negative_curvature;
       TrilinosWrappers::MPI::Vector residual(owned, comm);
-      stiffness.vmult(residual, solution);
+      stiffness->matrix().vmult(residual, solution);
       residual -= rhs;
       result.relative_residual =
         serial_rhs_norm > 0. ? residual.l2_norm() / serial_rhs_norm : 0.;

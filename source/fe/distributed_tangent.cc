@@ -31,12 +31,19 @@ namespace softface
       , n_serial_dofs(serial_is_join.size())
       , parameters(parameters)
   {
+    IndexSet relevant_dofs;
     DoFTools::extract_locally_relevant_dofs(dof_handler, relevant_dofs);
     AssertThrow(relevant_dofs.n_elements() == serial_dof_of_relevant.size(),
                 ExcInternalError());
-    relevant_is_join.resize(relevant_dofs.n_elements());
+    std::vector<char> relevant_is_join(relevant_dofs.n_elements());
     for (unsigned int k = 0; k < relevant_is_join.size(); ++k)
       relevant_is_join[k] = serial_is_join[serial_dof_of_relevant[k]];
+    tangent =
+      std::make_unique<OwnedRowsMatrix>(locally_owned_dofs,
+                                        relevant_dofs,
+                                        relevant_is_join,
+                                        OwnedRowsMatrix::JoinCouplings::kept,
+                                        communicator);
 
     // This rank's rows, in the order of its owned DoFs (the matrix's and the
     // vectors' local order): their serial DoFs, join flags and ML's null
@@ -68,87 +75,12 @@ namespace softface
     const std::vector<types::global_dof_index> &cell_dofs,
     const unsigned int                          n)
   {
-    dofs_per_cell              = n;
-    const std::size_t n_cells  = cell_dofs.size() / n;
-    const auto        is_owned = [&](const types::global_dof_index dof) {
-      return locally_owned_dofs.is_element(dof);
-    };
-    // The rows this rank owns, from the cells given: every cell at an owned
-    // DoF is here, so no other rank adds to these rows and none of these
-    // cells adds to another rank's (no rows written for other ranks, no
-    // exchange when the matrix is compressed).
-    {
-      TrilinosWrappers::SparsityPattern    sparsity(locally_owned_dofs,
-                                                 locally_owned_dofs,
-                                                 communicator);
-      std::vector<types::global_dof_index> columns(n);
-      for (std::size_t c = 0; c < n_cells; ++c)
-        {
-          std::copy(cell_dofs.begin() + n * c,
-                    cell_dofs.begin() + n * (c + 1),
-                    columns.begin());
-          std::sort(columns.begin(), columns.end());
-          for (unsigned int r = 0; r < n; ++r)
-            if (is_owned(cell_dofs[n * c + r]))
-              sparsity.add_entries(cell_dofs[n * c + r],
-                                   columns.begin(),
-                                   columns.end(),
-                                   true);
-        }
-      sparsity.compress();
-      tangent.reinit(sparsity);
-    }
-    // Zeroing compresses the matrix, which settles its storage: the
-    // positions found below stay valid.
-    tangent = 0.;
-
-    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
+    tangent->set_cells(cell_dofs, n);
+    dofs_per_cell = n;
     // A row's place among this rank's rows is its place in the forces too.
-    AssertThrow(matrix.RowMap().SameAs(forces.trilinos_vector().Map()),
+    AssertThrow(tangent->matrix().trilinos_matrix().RowMap().SameAs(
+                  forces.trilinos_vector().Map()),
                 ExcInternalError());
-    diagonal_column.resize(matrix.NumMyRows());
-    for (int r = 0; r < matrix.NumMyRows(); ++r)
-      diagonal_column[r] =
-        matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
-          TrilinosWrappers::global_row_index(matrix, r)));
-    // Every column of an owned row is a locally relevant DoF (a cell at an
-    // owned DoF is an owned or a ghost cell).
-    column_is_join.resize(matrix.NumMyCols());
-    for (int c = 0; c < matrix.NumMyCols(); ++c)
-      column_is_join[c] = relevant_is_join[relevant_dofs.index_within_set(
-        TrilinosWrappers::global_column_index(matrix, c))];
-
-    // Where each cell's entries live in its owned rows' values: an
-    // assembly adds to them directly. A row's columns are sorted.
-    cell_row.assign(n * n_cells, -1);
-    cell_entry.assign(n * n * n_cells, 0);
-    for (std::size_t c = 0; c < n_cells; ++c)
-      for (unsigned int r = 0; r < n; ++r)
-        {
-          const int local_row =
-            matrix.LRID(static_cast<TrilinosWrappers::types::int_type>(
-              cell_dofs[n * c + r]));
-          if (local_row < 0)
-            continue;
-          cell_row[n * c + r] = local_row;
-          int     n_entries;
-          double *values;
-          int    *columns;
-          matrix.ExtractMyRowView(local_row, n_entries, values, columns);
-          AssertThrow(n_entries <= 65536, ExcNotImplemented());
-          for (unsigned int q = 0; q < n; ++q)
-            {
-              const int column =
-                matrix.LCID(static_cast<TrilinosWrappers::types::int_type>(
-                  cell_dofs[n * c + q]));
-              const int *found =
-                std::lower_bound(columns, columns + n_entries, column);
-              AssertThrow(column >= 0 && found != columns + n_entries &&
-                            *found == column,
-                          ExcInternalError());
-              cell_entry[n * n * c + n * r + q] = found - columns;
-            }
-        }
   }
 
   void
@@ -156,20 +88,8 @@ namespace softface
   {
     with_tangent = with_tangent_in;
     forces       = 0.;
-    if (!with_tangent)
-      return;
-    tangent      = 0.;
-    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
-    row_values.resize(matrix.NumMyRows());
-    for (int local_row = 0; local_row < matrix.NumMyRows(); ++local_row)
-      {
-        int  n_entries;
-        int *columns;
-        matrix.ExtractMyRowView(local_row,
-                                n_entries,
-                                row_values[local_row],
-                                columns);
-      }
+    if (with_tangent)
+      tangent->zero();
   }
 
   void
@@ -177,21 +97,17 @@ namespace softface
                                const Vector<double>     &cell_forces,
                                const FullMatrix<double> &cell_tangent)
   {
-    const unsigned int n            = dofs_per_cell;
-    double            *owned_forces = forces.trilinos_vector()[0];
-    for (unsigned int r = 0; r < n; ++r)
+    double *owned_forces = forces.trilinos_vector()[0];
+    for (unsigned int i = 0; i < dofs_per_cell; ++i)
       {
-        const int local_row = cell_row[std::size_t(n) * cell + r];
-        if (local_row < 0)
+        const int r = tangent->row(cell, i);
+        if (r < 0)
           continue;
-        owned_forces[local_row] += cell_forces[r];
-        if (!with_tangent)
-          continue;
-        double              *values = row_values[local_row];
-        const std::uint16_t *entry =
-          &cell_entry[std::size_t(n) * n * cell + n * r];
-        for (unsigned int q = 0; q < n; ++q)
-          values[entry[q]] += cell_tangent(r, q);
+        owned_forces[r] += cell_forces[i];
+        if (with_tangent)
+          tangent->add_row(cell, i, [&](const unsigned int q) {
+            return cell_tangent(i, q);
+          });
       }
   }
 
@@ -201,20 +117,16 @@ namespace softface
   {
     Assert(dofs_per_cell == 12, ExcInternalError());
     double *owned_forces = forces.trilinos_vector()[0];
-    for (unsigned int r = 0; r < 12; ++r)
+    for (unsigned int i = 0; i < 12; ++i)
       {
-        const int local_row = cell_row[std::size_t(12) * cell + r];
-        if (local_row < 0)
+        const int r = tangent->row(cell, i);
+        if (r < 0)
           continue;
-        owned_forces[local_row] += response.force[r / 3][r % 3];
-        if (!with_tangent)
-          continue;
-        double              *values = row_values[local_row];
-        const std::uint16_t *entry =
-          &cell_entry[std::size_t(144) * cell + 12 * r];
-        for (unsigned int b = 0; b < 4; ++b)
-          for (unsigned int j = 0; j < 3; ++j)
-            values[*entry++] += response.tangent[r / 3][b][r % 3][j];
+        owned_forces[r] += response.force[i / 3][i % 3];
+        if (with_tangent)
+          tangent->add_row(cell, i, [&](const unsigned int q) {
+            return response.tangent[i / 3][q / 3][i % 3][q % 3];
+          });
       }
   }
 
@@ -255,35 +167,14 @@ namespace softface
     for (int r = 0; r < n_rows; ++r)
       if (row_is_join[r])
         d_local[r] = join_increment[row_serial_dof[r]];
-    tangent.vmult(Kd, d);
-
-    // The elimination in place, row by row of this rank's rows, as
-    // ConstrainedSystem::eliminate_join_dofs() does on the serial matrix;
-    // the join rows' right-hand side scaled by their diagonal before.
-    auto &matrix = const_cast<Epetra_CrsMatrix &>(tangent.trilinos_matrix());
+    tangent->matrix().vmult(Kd, d);
+    // The join rows' right-hand side scaled by their diagonal as the
+    // elimination leaves it (ConstrainedSystem on one rank).
+    const std::vector<double> diagonal = tangent->eliminate_join_dofs();
     for (int r = 0; r < n_rows; ++r)
-      {
-        int     n_entries;
-        double *values;
-        int    *columns;
-        matrix.ExtractMyRowView(r, n_entries, values, columns);
-        if (!row_is_join[r])
-          {
-            rhs_local[r] = -(Kd_local[r] + residual[row_serial_dof[r]]);
-            for (int k = 0; k < n_entries; ++k)
-              if (column_is_join[columns[k]])
-                values[k] = 0.;
-            continue;
-          }
-        for (int k = 0; k < n_entries; ++k)
-          if (columns[k] == diagonal_column[r])
-            {
-              values[k]    = values[k] != 0. ? std::abs(values[k]) : 1.;
-              rhs_local[r] = values[k] * d_local[r];
-            }
-          else
-            values[k] = 0.;
-      }
+      rhs_local[r] = row_is_join[r] ?
+                       diagonal[r] * d_local[r] :
+                       -(Kd_local[r] + residual[row_serial_dof[r]]);
     rhs = gather(rhs_owned);
   }
 
@@ -294,7 +185,7 @@ namespace softface
     // its matrix, and the tangent is overwritten by every assembly (its
     // smoother then met a matrix other than the one its Chebyshev bounds
     // were estimated for, and CG found negative curvature).
-    amg_matrix.copy_from(tangent);
+    amg_matrix.copy_from(tangent->matrix());
     amg = std::make_unique<TrilinosWrappers::PreconditionAMG>();
     Teuchos::ParameterList list;
     const auto             null_space = LinearSolver::amg_parameters(
@@ -318,8 +209,13 @@ namespace softface
     const double tolerance = parameters.relative_tolerance * rhs.l2_norm();
     LinearSolver::Result result;
     if (parameters.amg_rebuild_iterations == 0)
-      result.converged = DistributedElasticity::cg(
-        tangent, *amg, b, x, tolerance, parameters.max_iterations, result);
+      result.converged = DistributedElasticity::cg(tangent->matrix(),
+                                                   *amg,
+                                                   b,
+                                                   x,
+                                                   tolerance,
+                                                   parameters.max_iterations,
+                                                   result);
     else
       {
         // As LinearSolver::solve(): a slow solve continues with ML rebuilt
@@ -328,13 +224,13 @@ namespace softface
           std::min(parameters.max_iterations,
                    2 * parameters.amg_rebuild_iterations);
         result.converged = DistributedElasticity::cg(
-          tangent, *amg, b, x, tolerance, first_attempt, result);
+          tangent->matrix(), *amg, b, x, tolerance, first_attempt, result);
         if (!result.converged && !result.negative_curvature &&
             first_attempt < parameters.max_iterations)
           {
             build_amg();
             result.converged =
-              DistributedElasticity::cg(tangent,
+              DistributedElasticity::cg(tangent->matrix(),
                                         *amg,
                                         b,
                                         x,

@@ -9,6 +9,7 @@
 
 #include <softface/core/distributed_layout.h>
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/owned_rows_matrix.h>
 
 #include <memory>
 
@@ -20,8 +21,8 @@ namespace softface
    * Linear elasticity on several MPI ranks (issue 20, a first step): the
    * linear FEM model's equations (seed eq. 8, each cell with its tissue's
    * law, the scene's body force) on a DistributedLayout, assembled on each
-   * rank's own cells into a Trilinos matrix with the join DoFs prescribed
-   * through AffineConstraints, and solved by CG with ML given the six
+   * rank's rows from the cells at them (OwnedRowsMatrix), the join DoFs
+   * eliminated as on one rank, and solved by CG with ML given the six
    * rigid-body modes (LinearSolver::amg_parameters(), the serial model's
    * ML). Vertex constraints (sliding contact, lips) are not distributed yet.
    */
@@ -69,11 +70,12 @@ namespace softface
       solve(const Vector<double> &prescribed) const;
 
     private:
-      const DistributedLayout                           *layout = nullptr;
-      LinearSolver::Parameters                           parameters;
-      AffineConstraints<double>                          join_rows;
-      TrilinosWrappers::SparseMatrix                     stiffness;
-      TrilinosWrappers::MPI::Vector                      diagonal;
+      const DistributedLayout         *layout = nullptr;
+      LinearSolver::Parameters         parameters;
+      AffineConstraints<double>        join_rows;
+      std::unique_ptr<OwnedRowsMatrix> stiffness;
+      /// By this rank's rows: the join rows' diagonal (as eliminated).
+      std::vector<double>                                join_diagonal;
       std::unique_ptr<TrilinosWrappers::PreconditionAMG> amg;
     };
 

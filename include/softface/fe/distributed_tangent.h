@@ -10,6 +10,7 @@
 
 #include <softface/fe/elasticity.h>
 #include <softface/fe/linear_solver.h>
+#include <softface/fe/owned_rows_matrix.h>
 
 #include <array>
 #include <cstdint>
@@ -62,11 +63,9 @@ namespace softface
     /**
      * The cells this rank evaluates, by their DoFs (@p dofs_per_cell each,
      * in the element's order, one after the other): its own cells and the
-     * ghost cells at the DoFs it owns. Each cell adds to the rows this rank
-     * owns only, so that no contribution crosses the ranks; a cell at two
-     * ranks' DoFs is evaluated on both. The sparsity of this rank's rows
-     * and the matrix positions of every cell's entries in them are made
-     * here, once. Collective.
+     * ghost cells at the DoFs it owns (OwnedRowsMatrix: each cell adds to
+     * the rows this rank owns only). The sparsity of this rank's rows is
+     * made here, once. Collective.
      */
     void
     set_cells(const std::vector<types::global_dof_index> &cell_dofs,
@@ -120,15 +119,12 @@ namespace softface
     Vector<double>
     gather(const TrilinosWrappers::MPI::Vector &owned_values) const;
 
-    const MPI_Comm communicator;
-    const IndexSet locally_owned_dofs;
-    IndexSet       relevant_dofs;
-    /// Whether each locally relevant DoF (by its place in relevant_dofs) is
-    /// a join DoF.
-    std::vector<char>              relevant_is_join;
+    const MPI_Comm                 communicator;
+    const IndexSet                 locally_owned_dofs;
     const unsigned int             n_serial_dofs;
     const LinearSolver::Parameters parameters;
-    TrilinosWrappers::SparseMatrix tangent;
+    /// The tangent (this rank's rows).
+    std::unique_ptr<OwnedRowsMatrix> tangent;
     /// The tangent ML was built on (ML refers to it).
     TrilinosWrappers::SparseMatrix amg_matrix;
     /// The owned entries.
@@ -141,23 +137,10 @@ namespace softface
     std::vector<Point<3>>     owned_points;
     std::vector<unsigned int> owned_component;
     Point<3>                  centroid;
-    /// By this rank's rows: the serial DoF, whether it is a join DoF, and
-    /// the diagonal's column (local numbers); by the matrix's columns:
-    /// whether they are join DoFs.
+    /// By this rank's rows: the serial DoF and whether it is a join DoF.
     std::vector<types::global_dof_index> row_serial_dof;
     std::vector<char>                    row_is_join;
-    std::vector<int>                     diagonal_column;
-    std::vector<char>                    column_is_join;
-    /// Per cell and local row r: the row's place among this rank's rows
-    /// (-1 if another rank owns it) and the places of the cell's columns
-    /// in that row's values.
-    unsigned int     dofs_per_cell = 0;
-    std::vector<int> cell_row;
-    /// (16 bits: a row has far fewer entries; a quadratic cell has 900)
-    std::vector<std::uint16_t> cell_entry;
-    /// The values of each of this rank's rows in the Trilinos matrix (looked
-    /// up after each zeroing, which may move them).
-    std::vector<double *> row_values;
+    unsigned int                         dofs_per_cell = 0;
   };
 } // namespace softface
 

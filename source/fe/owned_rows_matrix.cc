@@ -1,0 +1,230 @@
+// A Trilinos matrix of an MPI rank's own rows, filled by the cells at them
+// (issue 20). See fe/owned_rows_matrix.h.
+
+#include <deal.II/lac/exceptions.h>
+#include <deal.II/lac/trilinos_index_access.h>
+
+#include <softface/fe/owned_rows_matrix.h>
+
+#include <Epetra_CrsGraph.h>
+#include <Epetra_CrsMatrix.h>
+#include <Epetra_Map.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace softface
+{
+  OwnedRowsMatrix::OwnedRowsMatrix(const IndexSet          &owned,
+                                   const IndexSet          &relevant,
+                                   const std::vector<char> &relevant_is_join,
+                                   const JoinCouplings      join_couplings,
+                                   const MPI_Comm           communicator)
+      : communicator(communicator)
+      , owned(owned)
+      , relevant(relevant)
+      , relevant_is_join(relevant_is_join)
+      , join_couplings(join_couplings)
+  {
+    AssertThrow(relevant_is_join.size() == relevant.n_elements(),
+                ExcInternalError());
+  }
+
+  void
+  OwnedRowsMatrix::set_cells(
+    const std::vector<types::global_dof_index> &cell_dofs,
+    const unsigned int                          n)
+  {
+    using GlobalIndex = TrilinosWrappers::types::int_type;
+    AssertThrow(n > 0 && n <= 255, ExcNotImplemented());
+    dofs_per_cell                    = n;
+    const std::size_t  n_cells       = cell_dofs.size() / n;
+    const unsigned int n_rows        = owned.n_elements();
+    const unsigned int n_relevant    = relevant.n_elements();
+    const std::size_t  n_cell_values = std::size_t(n) * n_cells;
+
+    // Each cell's DoFs as this rank's rows and as locally relevant DoFs;
+    // the cells at each row.
+    cell_row.assign(n_cell_values, -1);
+    cell_column.resize(n_cell_values);
+    std::vector<unsigned int> cells_of_row_start(n_rows + 1, 0);
+    for (std::size_t k = 0; k < n_cell_values; ++k)
+      {
+        const auto dof = cell_dofs[k];
+        AssertThrow(relevant.is_element(dof), ExcInternalError());
+        if (owned.is_element(dof))
+          {
+            cell_row[k] = owned.index_within_set(dof);
+            ++cells_of_row_start[cell_row[k] + 1];
+          }
+        cell_column[k] = relevant.index_within_set(dof);
+      }
+    for (unsigned int r = 0; r < n_rows; ++r)
+      cells_of_row_start[r + 1] += cells_of_row_start[r];
+    std::vector<unsigned int> cells_of_row(cells_of_row_start[n_rows]);
+    {
+      auto next = cells_of_row_start;
+      for (std::size_t k = 0; k < n_cell_values; ++k)
+        if (cell_row[k] >= 0)
+          cells_of_row[next[cell_row[k]]++] = k / n;
+    }
+
+    // A row's columns are the DoFs of its cells, once each (a mark per
+    // relevant DoF); found twice: their number sizes the graph's rows, then
+    // they enter it, row by row.
+    std::vector<GlobalIndex> relevant_global(n_relevant);
+    {
+      unsigned int k = 0;
+      for (const auto dof : relevant)
+        relevant_global[k++] = dof;
+    }
+    row_is_join.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      row_is_join[r] =
+        relevant_is_join[relevant.index_within_set(owned.nth_index_in_set(r))];
+    const bool                drop = join_couplings == JoinCouplings::dropped;
+    std::vector<unsigned int> mark(n_relevant);
+    std::vector<GlobalIndex>  columns;
+    const auto                find_columns = [&](const unsigned int r) {
+      columns.clear();
+      if (drop && row_is_join[r])
+        {
+          columns.push_back(owned.nth_index_in_set(r));
+          return;
+        }
+      for (unsigned int c = cells_of_row_start[r];
+           c < cells_of_row_start[r + 1];
+           ++c)
+        for (std::size_t k = std::size_t(n) * cells_of_row[c];
+             k < std::size_t(n) * (cells_of_row[c] + 1);
+             ++k)
+          if (mark[cell_column[k]] != r &&
+              !(drop && relevant_is_join[cell_column[k]]))
+            {
+              mark[cell_column[k]] = r;
+              columns.push_back(relevant_global[cell_column[k]]);
+            }
+    };
+    std::vector<int> row_length(n_rows);
+    std::fill(mark.begin(), mark.end(), numbers::invalid_unsigned_int);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      {
+        find_columns(r);
+        row_length[r] = columns.size();
+      }
+    const Epetra_Map row_map = owned.make_trilinos_map(communicator, false);
+    Epetra_CrsGraph  graph(Copy, row_map, row_length.data(), true);
+    std::fill(mark.begin(), mark.end(), numbers::invalid_unsigned_int);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      {
+        find_columns(r);
+        const int error =
+          graph.InsertGlobalIndices(static_cast<GlobalIndex>(
+                                      owned.nth_index_in_set(r)),
+                                    columns.size(),
+                                    columns.data());
+        AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
+      }
+    {
+      int error = graph.FillComplete(row_map, row_map);
+      AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
+      // Contiguous storage: Epetra's fast product kernel needs it (without
+      // it CG took a third longer on two ranks).
+      error = graph.OptimizeStorage();
+      AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
+    }
+    cells_of_row       = {};
+    cells_of_row_start = {};
+    mark               = {};
+    row_length         = {};
+    {
+      const Epetra_CrsMatrix shape(Copy, graph);
+      trilinos_matrix.reinit(shape, /*copy_values=*/false);
+    }
+    zero();
+
+    const Epetra_CrsMatrix &matrix = trilinos_matrix.trilinos_matrix();
+    diagonal_column.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      diagonal_column[r] =
+        matrix.LCID(static_cast<GlobalIndex>(owned.nth_index_in_set(r)));
+    column_is_join.resize(matrix.NumMyCols());
+    for (int c = 0; c < matrix.NumMyCols(); ++c)
+      column_is_join[c] = relevant_is_join[relevant.index_within_set(
+        TrilinosWrappers::global_column_index(matrix, c))];
+
+    // Each cell's columns in the matrix's numbers, sorted, with the cell's
+    // DoF of each: 5 bytes per DoF where a position per entry took 2 per
+    // entry (a quadratic cell has 900).
+    std::vector<int> matrix_column(n_relevant);
+    for (unsigned int k = 0; k < n_relevant; ++k)
+      matrix_column[k] = matrix.LCID(relevant_global[k]);
+    cell_order.resize(n_cell_values);
+    std::vector<std::pair<int, std::uint8_t>> sorted(n);
+    for (std::size_t c = 0; c < n_cells; ++c)
+      {
+        for (unsigned int q = 0; q < n; ++q)
+          {
+            const unsigned int k = cell_column[n * c + q];
+            // A cell's DoF is a column of each of its owned rows (a cell at
+            // no owned DoF was given by mistake); with the join couplings
+            // dropped, a DoF of cells at owned join DoFs only is none.
+            AssertThrow(matrix_column[k] >= 0 || drop, ExcInternalError());
+            sorted[q] = {matrix_column[k], q};
+          }
+        std::sort(sorted.begin(), sorted.end());
+        for (unsigned int s = 0; s < n; ++s)
+          {
+            cell_column[n * c + s] = sorted[s].first;
+            cell_order[n * c + s]  = sorted[s].second;
+          }
+      }
+  }
+
+  void
+  OwnedRowsMatrix::zero()
+  {
+    trilinos_matrix = 0.;
+    auto &matrix =
+      const_cast<Epetra_CrsMatrix &>(trilinos_matrix.trilinos_matrix());
+    row_values.resize(matrix.NumMyRows());
+    row_columns.resize(matrix.NumMyRows());
+    for (int r = 0; r < matrix.NumMyRows(); ++r)
+      {
+        int n_entries;
+        matrix.ExtractMyRowView(r, n_entries, row_values[r], row_columns[r]);
+      }
+  }
+
+  std::vector<double>
+  OwnedRowsMatrix::eliminate_join_dofs()
+  {
+    auto &matrix =
+      const_cast<Epetra_CrsMatrix &>(trilinos_matrix.trilinos_matrix());
+    std::vector<double> diagonal(row_is_join.size(), 0.);
+    for (int r = 0; r < matrix.NumMyRows(); ++r)
+      {
+        int     n_entries;
+        double *values;
+        int    *columns;
+        matrix.ExtractMyRowView(r, n_entries, values, columns);
+        if (!row_is_join[r])
+          {
+            for (int k = 0; k < n_entries; ++k)
+              if (column_is_join[columns[k]])
+                values[k] = 0.;
+            continue;
+          }
+        for (int k = 0; k < n_entries; ++k)
+          if (columns[k] == diagonal_column[r])
+            {
+              values[k]   = values[k] != 0. ? std::abs(values[k]) : 1.;
+              diagonal[r] = values[k];
+            }
+          else
+            values[k] = 0.;
+      }
+    return diagonal;
+  }
+} // namespace softface
