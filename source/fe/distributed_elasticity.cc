@@ -1,17 +1,16 @@
 // Linear elasticity on several MPI ranks (issue 20, a first step): the
-// linear FEM model's stiffness assembled on each rank's cells into a Trilinos
-// matrix with the join DoFs' rows and columns eliminated (AffineConstraints),
-// CG with the serial model's ML. See fe/distributed_elasticity.h.
+// linear FEM model's stiffness assembled on each rank's rows from the cells
+// at them (OwnedRowsMatrix) without the join DoFs' couplings, the right-hand
+// side from the cells at join DoFs (AffineConstraints), CG with the serial
+// model's ML. See fe/distributed_elasticity.h.
 
 #include <deal.II/base/index_set.h>
-#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
-#include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <softface/core/error.h>
@@ -22,7 +21,6 @@
 #include <Epetra_MultiVector.h>
 #include <Teuchos_ParameterList.hpp>
 
-#include <array>
 #include <cmath>
 #include <sstream>
 

@@ -4,8 +4,6 @@
 // fe/distributed_tangent.h.
 
 #include <deal.II/dofs/dof_tools.h>
-#include <deal.II/lac/trilinos_index_access.h>
-#include <deal.II/lac/trilinos_sparsity_pattern.h>
 
 #include <softface/fe/distributed_elasticity.h>
 #include <softface/fe/distributed_tangent.h>
@@ -15,7 +13,6 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
-#include <cmath>
 
 namespace softface
 {

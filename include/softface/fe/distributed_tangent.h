@@ -12,8 +12,6 @@
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/owned_rows_matrix.h>
 
-#include <array>
-#include <cstdint>
 #include <memory>
 #include <vector>
 

@@ -21,10 +21,12 @@ namespace softface
    *
    * The sparsity is made once from the cells (set_cells()), with each row's
    * length known before the graph is built; a cell's entries then go
-   * straight into its rows' values (add_row()), found by one walk along
-   * each row. Trilinos' own entry by entry insertion and summation (a
-   * look-up of every global index) took as long on each of two ranks as
-   * the serial model's whole assembly.
+   * straight into its rows' values (add_row()): a linear tetrahedron's
+   * at places found once, a larger cell's by one walk along each row (its
+   * places would take more memory than the matrix's share of them).
+   * Trilinos' own entry by entry insertion and summation (a look-up of
+   * every global index) took as long on each of two ranks as the serial
+   * model's whole assembly.
    */
   class OwnedRowsMatrix
   {
@@ -69,7 +71,7 @@ namespace softface
       return cell_row[std::size_t(dofs_per_cell) * cell + i];
     }
 
-    /// Zero the matrix (before an assembly).
+    /// Zero the matrix (before an assembly). Collective.
     void
     zero();
 
@@ -81,34 +83,26 @@ namespace softface
     void
     add_row(const unsigned int cell, const unsigned int i, const Entry &entry)
     {
-      // The cell's columns and the row's are both sorted: one walk along
-      // the row finds them all.
-      const std::size_t   first        = std::size_t(dofs_per_cell) * cell;
-      const int           r            = cell_row[first + i];
-      const int          *columns      = row_columns[r];
-      double             *values       = row_values[r];
-      const int          *cell_columns = &cell_column[first];
-      const std::uint8_t *order        = &cell_order[first];
-      int                 k            = 0;
+      const std::size_t first = std::size_t(dofs_per_cell) * cell;
+      const int         r     = cell_row[first + i];
+      Assert(r >= 0, ExcMessage("A row of another rank's."));
+      double *values = row_values[r];
+      if (cell_entry.empty())
+        {
+          walk_row(cell, i, [&](const int k, const unsigned int q) {
+            values[k] += entry(q);
+          });
+          return;
+        }
+      const std::uint16_t *position =
+        &cell_entry[std::size_t(dofs_per_cell) * (first + i)];
       if (join_couplings == JoinCouplings::kept)
-        for (unsigned int s = 0; s < dofs_per_cell; ++s)
-          {
-            while (columns[k] != cell_columns[s])
-              ++k;
-            values[k] += entry(order[s]);
-          }
-      else if (row_is_join[r])
-        values[0] += entry(i);
+        for (unsigned int q = 0; q < dofs_per_cell; ++q)
+          values[position[q]] += entry(q);
       else
-        for (unsigned int s = 0; s < dofs_per_cell; ++s)
-          {
-            // A join DoF, or a DoF of no owned free row (-1).
-            if (cell_columns[s] < 0 || column_is_join[cell_columns[s]])
-              continue;
-            while (columns[k] != cell_columns[s])
-              ++k;
-            values[k] += entry(order[s]);
-          }
+        for (unsigned int q = 0; q < dofs_per_cell; ++q)
+          if (position[q] != no_entry)
+            values[position[q]] += entry(q);
     }
 
     /**
@@ -135,6 +129,54 @@ namespace softface
     }
 
   private:
+    /**
+     * Call at(k, q) for each of cell @p cell's DoFs q that has a place k in
+     * the row of its DoF @p i (an owned one). The cell's columns and the
+     * row's are both sorted: one walk along the row finds them all.
+     */
+    template <typename At>
+    void
+    walk_row(const unsigned int cell, const unsigned int i, const At &at) const
+    {
+      const std::size_t   first        = std::size_t(dofs_per_cell) * cell;
+      const int           r            = cell_row[first + i];
+      const int          *columns      = row_columns[r];
+      const int          *cell_columns = &cell_column[first];
+      const std::uint8_t *order        = &cell_order[first];
+      int                 k            = 0;
+      if (join_couplings == JoinCouplings::kept)
+        for (unsigned int s = 0; s < dofs_per_cell; ++s)
+          {
+            while (columns[k] != cell_columns[s])
+              ++k;
+            at(k, order[s]);
+          }
+      else if (row_is_join[r])
+        {
+          // Its diagonal alone (the cell's DoF i, and any repeat of it).
+          for (unsigned int s = 0; s < dofs_per_cell; ++s)
+            if (cell_columns[s] == diagonal_column[r])
+              at(0, order[s]);
+        }
+      else
+        for (unsigned int s = 0; s < dofs_per_cell; ++s)
+          {
+            // A join DoF, or a DoF of no owned free row (-1).
+            if (cell_columns[s] < 0 || column_is_join[cell_columns[s]])
+              continue;
+            while (columns[k] != cell_columns[s])
+              ++k;
+            at(k, order[s]);
+          }
+    }
+
+    /// Cells of at most this many DoFs keep each entry's place in its row
+    /// (2 bytes per entry: 288 for a linear tetrahedron, where a quadratic
+    /// one's 900 entries would take 1.8 kB): their assembly adds without
+    /// walking the rows, as fast as a serial one.
+    static constexpr unsigned int  max_dofs_with_positions = 12;
+    static constexpr std::uint16_t no_entry                = 0xffff;
+
     const MPI_Comm                 communicator;
     const IndexSet                 owned;
     const IndexSet                 relevant;
@@ -144,11 +186,14 @@ namespace softface
 
     /// Per cell and DoF: its row among this rank's rows (-1 if another
     /// rank owns it); per cell, its columns in the matrix's local numbers,
-    /// sorted, and the cell's DoF of each.
+    /// sorted, and the cell's DoF of each (walk_row()).
     unsigned int              dofs_per_cell = 0;
     std::vector<int>          cell_row;
     std::vector<int>          cell_column;
     std::vector<std::uint8_t> cell_order;
+    /// For small cells instead: per cell, row i and DoF q, the place in row
+    /// i's values (no_entry: none, a dropped join coupling).
+    std::vector<std::uint16_t> cell_entry;
     /// The values and columns of each row in the Trilinos matrix (looked up
     /// after each zeroing, which may move them).
     std::vector<double *> row_values;
