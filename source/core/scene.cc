@@ -225,7 +225,8 @@ namespace softface
             model.figures = Utilities::MPI::broadcast(world, model.figures);
           }
         patient_figures = model.figures;
-        cell_name       = Mesh::read_file(read_from, triangulation);
+        cell_name =
+          Mesh::read_file_on_every_rank(world, read_from, triangulation);
         if (several)
           {
             // An older mesh of the same name on a rank's own disk would
@@ -254,7 +255,8 @@ namespace softface
           throw Error("Scene: 'Mesh source = file' needs a 'Mesh file'.");
         if (file[0] != '/' && !input_directory.empty())
           file = input_directory + "/" + file;
-        cell_name        = Mesh::read_file(file, triangulation);
+        cell_name =
+          Mesh::read_file_on_every_rank(MPI_COMM_WORLD, file, triangulation);
         mesh_description = "'" + file + "'";
       }
     setup();

@@ -87,5 +87,33 @@ namespace softface
         throw Error("Mesh file '" + filename + "' holds no cells.");
       return cell_name;
     }
+
+    CellNamer
+    read_file_on_every_rank(const MPI_Comm     communicator,
+                            const std::string &filename,
+                            Triangulation<3>  &triangulation)
+    {
+      if (Utilities::MPI::n_mpi_processes(communicator) == 1)
+        return read_file(filename, triangulation);
+      CellNamer   cell_name;
+      std::string error;
+      try
+        {
+          cell_name = read_file(filename, triangulation);
+        }
+      catch (const Error &e)
+        {
+          error = e.what();
+          if (error.empty())
+            error = "Cannot read mesh file '" + filename + "'.";
+        }
+      const auto errors = Utilities::MPI::all_gather(communicator, error);
+      for (unsigned int rank = 0; rank < errors.size(); ++rank)
+        if (!errors[rank].empty())
+          throw Error(rank == 0 ? errors[0] :
+                                  "MPI rank " + std::to_string(rank) + ": " +
+                                    errors[rank]);
+      return cell_name;
+    }
   } // namespace Mesh
 } // namespace softface

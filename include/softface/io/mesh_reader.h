@@ -1,6 +1,7 @@
 #ifndef softface_io_mesh_reader_h
 #define softface_io_mesh_reader_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/grid/tria.h>
 
 #include <softface/core/mesh.h>
@@ -23,6 +24,19 @@ namespace softface
      */
     CellNamer
     read_file(const std::string &filename, Triangulation<3> &triangulation);
+
+    /**
+     * read_file() on every rank of @p communicator, each into its own
+     * triangulation (issue 20: every rank holds the scene). If a rank
+     * cannot read it (a file another node does not see, a partial copy),
+     * every rank throws the same Error, the first such rank's message,
+     * naming the rank unless it is rank 0: none is left alone in the
+     * collectives that follow. Collective.
+     */
+    CellNamer
+    read_file_on_every_rank(const MPI_Comm     communicator,
+                            const std::string &filename,
+                            Triangulation<3>  &triangulation);
   } // namespace Mesh
 } // namespace softface
 
