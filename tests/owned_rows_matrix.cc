@@ -159,22 +159,12 @@ namespace
     for (const auto dof : layout.locally_relevant_dofs)
       relevant_is_join.push_back(layout.is_join_dof(dof));
     // Every cell at a DoF this rank owns.
-    std::vector<types::global_dof_index> cell_dofs;
-    std::vector<unsigned int>            serial_cell;
-    for (const auto &cell : layout.dof_handler.active_cell_iterators())
-      if (!cell->is_artificial())
-        {
-          bool at_owned_dof = false;
-          for (const unsigned int v : cell->vertex_indices())
-            at_owned_dof |= layout.locally_owned_dofs.is_element(
-              cell->vertex_dof_index(v, 0));
-          if (!at_owned_dof)
-            continue;
-          serial_cell.push_back(layout.serial_cell(cell)->active_cell_index());
-          for (const unsigned int v : cell->vertex_indices())
-            for (unsigned int c = 0; c < 3; ++c)
-              cell_dofs.push_back(cell->vertex_dof_index(v, c));
-        }
+    std::vector<DoFHandler<3>::active_cell_iterator> cells;
+    std::vector<types::global_dof_index>             cell_dofs;
+    layout.cells_at_owned_dofs(cells, cell_dofs);
+    std::vector<unsigned int> serial_cell;
+    for (const auto &cell : cells)
+      serial_cell.push_back(layout.serial_cell(cell)->active_cell_index());
 
     for (const unsigned int copies : {1, 2})
       for (const auto couplings : {JoinCouplings::kept, JoinCouplings::dropped})

@@ -12,6 +12,7 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 
+#include <array>
 #include <cstdint>
 
 namespace softface
@@ -144,6 +145,31 @@ namespace softface
   {
     return Triangulation<3>::active_cell_iterator(
       &scene.triangulation, 0, cell->id().get_coarse_cell_id());
+  }
+
+  void
+  DistributedLayout::cells_at_owned_dofs(
+    std::vector<DoFHandler<3>::active_cell_iterator> &cells,
+    std::vector<types::global_dof_index>             &cell_dofs) const
+  {
+    cells.clear();
+    cell_dofs.clear();
+    std::array<types::global_dof_index, 12> dofs;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          bool at_owned_dof = false;
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                dofs[3 * a + i] = cell->vertex_dof_index(a, i);
+                at_owned_dof |= locally_owned_dofs.is_element(dofs[3 * a + i]);
+              }
+          if (!at_owned_dof)
+            continue;
+          cells.push_back(cell);
+          cell_dofs.insert(cell_dofs.end(), dofs.begin(), dofs.end());
+        }
   }
 
   bool

@@ -106,19 +106,7 @@ namespace softface
         comm);
       std::vector<DoFHandler<3>::active_cell_iterator> cells;
       std::vector<types::global_dof_index>             cell_dofs;
-      for (const auto &cell : layout->dof_handler.active_cell_iterators())
-        if (!cell->is_artificial())
-          {
-            bool at_owned_dof = false;
-            for (const unsigned int v : cell->vertex_indices())
-              at_owned_dof |= owned.is_element(cell->vertex_dof_index(v, 0));
-            if (!at_owned_dof)
-              continue;
-            cells.push_back(cell);
-            for (const unsigned int v : cell->vertex_indices())
-              for (unsigned int c = 0; c < 3; ++c)
-                cell_dofs.push_back(cell->vertex_dof_index(v, c));
-          }
+      layout->cells_at_owned_dofs(cells, cell_dofs);
       stiffness->set_cells(cell_dofs, 12);
       cell_dofs = {};
 

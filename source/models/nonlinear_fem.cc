@@ -75,29 +75,12 @@ namespace softface
             ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
           // Its own cells and the ghost cells at its DoFs: each rank adds
           // its own rows only (DistributedTangent::set_cells()).
-          ranks_cell_dofs.clear();
           ranks_dofs_per_cell = 12;
-          std::array<types::global_dof_index, 12> dofs;
-          for (const auto &cell :
-               ranks_layout->dof_handler.active_cell_iterators())
-            if (!cell->is_artificial())
-              {
-                bool at_own_dof = false;
-                for (unsigned int a = 0; a < 4; ++a)
-                  for (unsigned int i = 0; i < 3; ++i)
-                    {
-                      dofs[3 * a + i] = cell->vertex_dof_index(a, i);
-                      at_own_dof |= ranks_layout->locally_owned_dofs.is_element(
-                        dofs[3 * a + i]);
-                    }
-                if (!at_own_dof)
-                  continue;
-                rank_cells.push_back(
-                  ranks_layout->serial_cell(cell)->active_cell_index());
-                ranks_cell_dofs.insert(ranks_cell_dofs.end(),
-                                       dofs.begin(),
-                                       dofs.end());
-              }
+          std::vector<DoFHandler<3>::active_cell_iterator> cells;
+          ranks_layout->cells_at_owned_dofs(cells, ranks_cell_dofs);
+          for (const auto &cell : cells)
+            rank_cells.push_back(
+              ranks_layout->serial_cell(cell)->active_cell_index());
           return;
         }
 

@@ -80,6 +80,13 @@ namespace softface
     Triangulation<3>::active_cell_iterator
     serial_cell(const DoFHandler<3>::active_cell_iterator &cell) const;
 
+    /// The cells at a DoF this rank owns, its own and ghost cells, and
+    /// their DoFs (12 each, vertex by vertex, components within): the cells
+    /// a rank assembles its own rows from (OwnedRowsMatrix).
+    void
+    cells_at_owned_dofs(std::vector<DoFHandler<3>::active_cell_iterator> &cells,
+                        std::vector<types::global_dof_index> &cell_dofs) const;
+
     /// Is the locally relevant @p dof a join point's DoF (the scene's
     /// decision for its vertex)?
     bool
