@@ -9,10 +9,17 @@
 //   other two own none of its join points);
 // - scatter and gather of a serial field give it back exactly, and a field
 //   set on the ranks from their own support points gathers to the serial
-//   field at the scene's support points.
+//   field at the scene's support points;
+// - the layout's triangulation (DistributedTriangulation, a table from
+//   coarse cell id to index) holds the cells of deal.II's own fully
+//   distributed triangulation built from the same description, in the same
+//   order, with the same owners and vertices, and its lookup answers each
+//   cell's index, with the table and with the binary search kept for
+//   scattered ids.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/tria_description.h>
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <softface/core/distributed_layout.h>
@@ -22,6 +29,7 @@
 #include "tests.h"
 
 #include <algorithm>
+#include <array>
 #include <map>
 
 using namespace softface_tests;
@@ -134,6 +142,60 @@ namespace
                     << std::endl;
           }
       }
+
+    // The triangulation against deal.II's own, from the same description.
+    {
+      Triangulation<3> partitioned;
+      partitioned.copy_triangulation(scene.triangulation);
+      // Each cell's rank as the layout has it: gathered from the owners.
+      std::vector<unsigned int> owner(scene.triangulation.n_active_cells(), 0);
+      for (const auto &cell : layout.triangulation.active_cell_iterators())
+        if (cell->is_locally_owned())
+          owner[cell->id().get_coarse_cell_id()] =
+            Utilities::MPI::this_mpi_process(comm);
+      Utilities::MPI::sum(owner, comm, owner);
+      for (const auto &cell : partitioned.active_cell_iterators())
+        cell->set_subdomain_id(owner[cell->active_cell_index()]);
+      const auto description = TriangulationDescription::Utilities::
+        create_description_from_triangulation(partitioned, comm);
+      parallel::fullydistributed::Triangulation<3> reference(comm);
+      reference.create_triangulation(description);
+      DistributedTriangulation searched(comm, /*allow_table=*/false);
+      searched.create_triangulation(description);
+      const unsigned int with_table = Utilities::MPI::sum<unsigned int>(
+        layout.triangulation.has_index_table(), comm);
+      deallog << "  ranks looking coarse cells up in a table: " << with_table
+              << " of " << n_ranks << std::endl;
+
+      unsigned int differences = 0, wrong_lookups = 0;
+      for (const DistributedTriangulation *ours :
+           std::array<const DistributedTriangulation *, 2>{
+             {&layout.triangulation, &searched}})
+        {
+          differences += ours->n_active_cells() != reference.n_active_cells();
+          auto other = reference.begin_active();
+          for (const auto &cell : ours->active_cell_iterators())
+            {
+              if (other == reference.end())
+                break;
+              differences += cell->id() != other->id() ||
+                             cell->subdomain_id() != other->subdomain_id();
+              for (const unsigned int v : cell->vertex_indices())
+                differences += cell->vertex(v) != other->vertex(v);
+              const auto id = cell->id().get_coarse_cell_id();
+              // A coarse cell's index is its index on level 0.
+              wrong_lookups += ours->coarse_cell_id_to_coarse_cell_index(id) !=
+                               static_cast<unsigned int>(other->index());
+              ++other;
+            }
+        }
+      check_equal("  cells unlike deal.II's fully distributed triangulation",
+                  Utilities::MPI::sum(differences, comm),
+                  0);
+      check_equal("  coarse cells looked up wrong (table, search)",
+                  Utilities::MPI::sum(wrong_lookups, comm),
+                  0);
+    }
 
     // Scatter and gather give a serial field back exactly.
     Vector<double> serial(n_dofs);

@@ -12,11 +12,84 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
 namespace softface
 {
+  DistributedTriangulation::DistributedTriangulation(
+    const MPI_Comm communicator,
+    const bool     allow_table)
+      : parallel::fullydistributed::Triangulation<3>(communicator)
+      , allow_table(allow_table)
+  {}
+
+  void
+  DistributedTriangulation::create_triangulation(
+    const TriangulationDescription::Description<3, 3> &description)
+  {
+    // The lookup first: deal.II's create_triangulation() sorts through
+    // coarse_cell_id_to_coarse_cell_index().
+    index_of_id.clear();
+    sorted_ids.clear();
+    const auto &ids = description.coarse_cell_index_to_coarse_cell_id;
+    if (ids.empty())
+      // deal.II builds a rank without cells one artificial cell, whose id
+      // is the invalid one.
+      sorted_ids.emplace_back(numbers::invalid_coarse_cell_id, 0);
+    else
+      {
+        const auto [smallest, largest] =
+          std::minmax_element(ids.begin(), ids.end());
+        const std::uint64_t range = std::uint64_t(*largest) - *smallest + 1;
+        if (allow_table && range <= 4 * std::uint64_t(ids.size()) + 1024)
+          {
+            first_id = *smallest;
+            index_of_id.assign(range, numbers::invalid_unsigned_int);
+            for (unsigned int i = 0; i < ids.size(); ++i)
+              index_of_id[ids[i] - first_id] = i;
+          }
+        else
+          {
+            sorted_ids.reserve(ids.size());
+            for (unsigned int i = 0; i < ids.size(); ++i)
+              sorted_ids.emplace_back(ids[i], i);
+            std::sort(sorted_ids.begin(), sorted_ids.end());
+          }
+      }
+    parallel::fullydistributed::Triangulation<3>::create_triangulation(
+      description);
+  }
+
+  unsigned int
+  DistributedTriangulation::coarse_cell_id_to_coarse_cell_index(
+    const types::coarse_cell_id coarse_cell_id) const
+  {
+    if (!index_of_id.empty())
+      {
+        const types::coarse_cell_id k = coarse_cell_id - first_id;
+        AssertThrow(coarse_cell_id >= first_id && k < index_of_id.size() &&
+                      index_of_id[k] != numbers::invalid_unsigned_int,
+                    ExcMessage("Coarse cell " + std::to_string(coarse_cell_id) +
+                               " is not on this rank."));
+        return index_of_id[k];
+      }
+    const auto found = std::lower_bound(sorted_ids.begin(),
+                                        sorted_ids.end(),
+                                        std::make_pair(coarse_cell_id, 0u));
+    AssertThrow(found != sorted_ids.end() && found->first == coarse_cell_id,
+                ExcMessage("Coarse cell " + std::to_string(coarse_cell_id) +
+                           " is not on this rank."));
+    return found->second;
+  }
+
+  bool
+  DistributedTriangulation::has_index_table() const
+  {
+    return !index_of_id.empty();
+  }
+
   DistributedLayout::Partitioner
   DistributedLayout::parse_partitioner(const std::string &name)
   {

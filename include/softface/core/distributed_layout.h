@@ -13,11 +13,58 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softface
 {
   using namespace dealii;
+
+  /**
+   * deal.II's fully distributed triangulation, with a table from a coarse
+   * cell's id to its index on this rank in place of the binary search
+   * deal.II 9.4 does. Building a rank's part sorts its cells twice (in
+   * dealii::Triangulation and in parallel::fullydistributed::Triangulation's
+   * create_triangulation()), and each comparison looks up both cells' ids:
+   * tens of millions of binary searches at a million cells per rank. The
+   * table spans the rank's ids from the smallest to the largest; where that
+   * range is more than a few times the rank's cells (a partition whose cells
+   * are scattered over the mesh's order) a binary search over the sorted ids
+   * answers, as deal.II's does (which a derived class cannot call).
+   */
+  class DistributedTriangulation
+      : public parallel::fullydistributed::Triangulation<3>
+  {
+  public:
+    /// With @p allow_table false the binary search always answers (for
+    /// the test against the table).
+    explicit DistributedTriangulation(const MPI_Comm communicator,
+                                      const bool     allow_table = true);
+
+    using parallel::fullydistributed::Triangulation<3>::create_triangulation;
+
+    void
+    create_triangulation(
+      const TriangulationDescription::Description<3, 3> &description) override;
+
+    unsigned int
+    coarse_cell_id_to_coarse_cell_index(
+      const types::coarse_cell_id coarse_cell_id) const override;
+
+    /// Does the table answer (false: the binary search does)?
+    bool
+    has_index_table() const;
+
+  private:
+    const bool allow_table;
+    /// The smallest coarse cell id of this rank.
+    types::coarse_cell_id first_id = 0;
+    /// Index of id first_id + k, or numbers::invalid_unsigned_int where k is
+    /// no id of this rank; empty where the ids are too scattered.
+    std::vector<unsigned int> index_of_id;
+    /// Pairs (id, index) sorted by id, where index_of_id is empty.
+    std::vector<std::pair<types::coarse_cell_id, unsigned int>> sorted_ids;
+  };
 
   /**
    * The scene's P1 layout on the ranks of an MPI communicator (issue 20, a
@@ -101,12 +148,12 @@ namespace softface
     Vector<double>
     gather(const TrilinosWrappers::MPI::Vector &distributed) const;
 
-    const Scene                                 &scene;
-    const MPI_Comm                               communicator;
-    parallel::fullydistributed::Triangulation<3> triangulation;
-    DoFHandler<3>                                dof_handler;
-    IndexSet                                     locally_owned_dofs;
-    IndexSet                                     locally_relevant_dofs;
+    const Scene             &scene;
+    const MPI_Comm           communicator;
+    DistributedTriangulation triangulation;
+    DoFHandler<3>            dof_handler;
+    IndexSet                 locally_owned_dofs;
+    IndexSet                 locally_relevant_dofs;
 
   private:
     /// serial_dof() of each locally relevant DoF, by its place in
