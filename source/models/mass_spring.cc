@@ -591,7 +591,8 @@ namespace softface
           exchange->gather(&x[0][0]);
           blocked_updates = global_sum(blocked_updates);
         }
-      point_updates = global_sum(point_updates);
+      const unsigned long long own_updates = point_updates;
+      point_updates                        = global_sum(point_updates);
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
         for (unsigned int c = 0; c < 3; ++c)
@@ -632,6 +633,11 @@ namespace softface
           add_detail("ghost points per rank (largest)",
                      Utilities::MPI::max(exchange->n_ghost_points(),
                                          communicator));
+          // The dynamic cut-out works where the motion is, which a static
+          // partition need not split evenly: a colour waits for the rank
+          // with the most updates in it.
+          add_detail("busiest rank's point updates",
+                     Utilities::MPI::max(own_updates, communicator));
         }
       for (const auto &t : tetrahedra)
         last_report.inverted_tetrahedra +=

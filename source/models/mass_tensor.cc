@@ -1042,6 +1042,10 @@ namespace softface
           add_detail("ghost points per rank (largest)",
                      Utilities::MPI::max(exchange->n_ghost_points(),
                                          communicator));
+          // A colour waits for the rank with the most updates in it: the
+          // busiest rank's share bounds what the ranks gain.
+          add_detail("busiest rank's point updates",
+                     Utilities::MPI::max(own_updates, communicator));
         }
       add_detail("max gradient", last_report.max_gradient, "mm/sweep");
       if (verify)
