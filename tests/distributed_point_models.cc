@@ -11,7 +11,10 @@
 //   set and in damped Jacobi order too, the cube held on one face only (a
 //   rank owns no join point, and the held face lies on one rank), the
 //   shared gmsh cube lifted 6 mm, two tissues under gravity;
-// - the mass spring model on the same scenes.
+// - the mass spring model on the same scenes, and on a cube whose bone
+//   moves near its held face, where the ranks' blocks are shared again
+//   between the load steps by each step's updates (the same answer and
+//   sweeps).
 
 #include <softface/core/displacement.h>
 #include <softface/models/linear_fem.h>
@@ -113,10 +116,12 @@ namespace
   compare_mass_spring(const std::string    &name,
                       const Scene          &scene,
                       const Vector<double> &prescribed,
-                      const double          threshold)
+                      const double          threshold,
+                      const bool            expect_rebalance = false)
   {
     Vector<double> answer[2];
     unsigned int   sweeps[2];
+    unsigned int   load_steps = 0, rebalances = 0;
     for (const unsigned int on_ranks : {0u, 1u})
       {
         Models::MassSpring model;
@@ -126,12 +131,22 @@ namespace
                                  scene,
                                  prescribed);
         sweeps[on_ranks] = model.statistics().iterations;
+        load_steps       = model.report().load_steps;
+        rebalances       = model.report().rebalances;
       }
     std::ostringstream stop;
     stop << threshold;
     deallog << name << ", mass spring, stop threshold " << stop.str()
             << " mm:" << std::endl;
     print("  largest |u_i| (mm)", answer[1].linfty_norm());
+    deallog << "  load steps: " << load_steps << std::endl;
+    if (expect_rebalance)
+      check_above("  load steps after which the ranks' blocks changed",
+                  rebalances,
+                  1);
+    else
+      deallog << "  load steps after which the ranks' blocks changed: "
+              << rebalances << std::endl;
     check_same_as_serial(scene, answer, sweeps);
   }
 
@@ -225,6 +240,15 @@ SOFTFACE_TEST(distributed_point_models)
 
   compare_mass_spring("cube, turned", cube, turned, 1e-5);
   compare_mass_spring("gmsh cube30k, lifted", gmsh, lift, 1e-4);
+  // The bone moved near the held face: the updates gather on one side, and
+  // the ranks' blocks are shared again between the load steps.
+  Scene one_face_finer;
+  make_cube_held_at_bottom(one_face_finer, 30000);
+  compare_mass_spring("cube held at z = 0, 30k, bone moved",
+                      one_face_finer,
+                      move_bone(one_face_finer, Point<3>(2, 0, 3), 5.),
+                      1e-3,
+                      /*expect_rebalance=*/true);
   compare_mass_spring("two tissues under gravity",
                       layered,
                       move_bone(layered, Point<3>(0, 0, 4)),

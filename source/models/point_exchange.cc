@@ -15,9 +15,10 @@
 
 namespace softface
 {
-  PointExchange::PointExchange(const BlockColouring    &colouring,
-                               const Models::PointMesh &mesh,
-                               const MPI_Comm           communicator)
+  PointExchange::PointExchange(const BlockColouring      &colouring,
+                               const Models::PointMesh   &mesh,
+                               const MPI_Comm             communicator,
+                               const std::vector<double> &block_work)
       : communicator(communicator)
       , n_points(mesh.n_points())
   {
@@ -29,25 +30,31 @@ namespace softface
     AssertThrow(row_start.size() == n_points + 1 &&
                   is_free.size() == n_points && start.back() == n_points,
                 ExcMessage("The point mesh does not match the colouring."));
+    AssertThrow(block_work.empty() || block_work.size() == n_blocks,
+                ExcMessage("One figure of work per block."));
 
-    // Consecutive blocks per rank, as many free points each as can be: a
-    // rank's share of the work (join points are not updated).
-    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
-    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
-    std::vector<unsigned long long> free_before(n_blocks + 1, 0);
+    // Consecutive blocks per rank, as much work each as can be: by default
+    // a block's free points (join points are not updated).
+    const unsigned int  n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int  rank = Utilities::MPI::this_mpi_process(communicator);
+    std::vector<double> work_before(n_blocks + 1, 0.);
     for (unsigned int b = 0; b < n_blocks; ++b)
       {
-        free_before[b + 1] = free_before[b];
-        for (unsigned int j = start[b]; j < start[b + 1]; ++j)
-          free_before[b + 1] += is_free[j];
+        double work = 0.;
+        if (block_work.empty())
+          for (unsigned int j = start[b]; j < start[b + 1]; ++j)
+            work += is_free[j];
+        else
+          work = block_work[b];
+        work_before[b + 1] = work_before[b] + work;
       }
     // Rank r's blocks begin at the first block with at least r / n_ranks of
-    // the free points before it (one pass for all ranks).
+    // the work before it (one pass for all ranks).
     std::vector<unsigned int> first_block(n_ranks + 1, n_blocks);
     for (unsigned int r = 0, b = 0; r < n_ranks; ++r)
       {
         while (b < n_blocks &&
-               free_before[b] * n_ranks < free_before[n_blocks] * r)
+               work_before[b] * n_ranks < work_before[n_blocks] * r)
           ++b;
         first_block[r] = b;
       }

@@ -82,6 +82,9 @@ namespace softface
         /// Updates not taken because every halving of the step would have
         /// inverted a tetrahedron.
         unsigned long long blocked_updates = 0;
+        /// On several MPI ranks: the load steps after which the ranks'
+        /// blocks were shared again by that step's updates and changed.
+        unsigned int rebalances = 0;
       };
       const Report &
       report() const;

@@ -18,7 +18,9 @@ namespace softface
    * The points of a point-mesh model (mass tensor, mass spring) on several
    * MPI ranks (issue 20). A rank updates the points of a range of the
    * model's blocks (BlockColouring): consecutive blocks, so a compact piece
-   * of the mesh in locality order, balanced by their free points. The other
+   * of the mesh in locality order, balanced by their free points or by
+   * another measure of their work (the mass spring model shares its blocks
+   * again after each load step by that step's updates). The other
    * points it reads are ghosts, which it does not write.
    *
    * A sweep on the ranks is the serial sweep, update for update: the colours
@@ -41,11 +43,14 @@ namespace softface
   public:
     /**
      * The ranks' ranges of @p colouring's blocks, and for each colour who
-     * reads which of the colour's points. Collective.
+     * reads which of the colour's points. The ranges balance @p block_work
+     * (one figure per block, the same on every rank), by default each
+     * block's free points. Collective.
      */
-    PointExchange(const BlockColouring    &colouring,
-                  const Models::PointMesh &mesh,
-                  const MPI_Comm           communicator);
+    PointExchange(const BlockColouring      &colouring,
+                  const Models::PointMesh   &mesh,
+                  const MPI_Comm             communicator,
+                  const std::vector<double> &block_work = {});
 
     const MPI_Comm communicator;
 
