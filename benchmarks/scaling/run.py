@@ -308,7 +308,8 @@ md = ["# Strong scaling: one MPI rank against two", "",
       "and the tensors and springs (serial steps of issue 20's design so far). The FEM models "
       "share one partition of the mesh (a DistributedLayout, made once) and assemble each rank's "
       "rows from every cell at them, its own and ghost cells (OwnedRowsMatrix); the point models give "
-      "each rank a range of their 256-point blocks and sweep the colours of blocks in turn, as "
+      "each rank a range of their 256-point blocks (the mass spring model's ranges shared again "
+      "after each load step by that step's updates) and sweep the colours of blocks in turn, as "
       "a serial run does, so they make the serial run's updates. CSV: [scaling.csv](scaling.csv).",
       ""]
 for t in table:
