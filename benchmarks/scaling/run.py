@@ -2,7 +2,8 @@
 """Strong scaling, one MPI rank against two (issue 20): linear FEM (cg amg), the mass tensor and
 the mass spring model and nonlinear FEM (Neo-Hooke, cg amg) on the generated cube (6 mm lift) of about 500k and 2M tetrahedra, one
 thread per rank, serial and `mpiexec -n 2` interleaved, REPS repetitions; per model and phase the
-median time and the ratio one rank / two ranks; then a model of 64 and 1024 ranks built from
+median time, the ratio one rank / two ranks of the medians and of each side's fastest run, and
+the busiest rank's share of the point models' updates; then a model of 64 and 1024 ranks built from
 those figures.
 
 usage: run.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick] [--report-only]

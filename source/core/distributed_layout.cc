@@ -43,7 +43,8 @@ namespace softface
         const auto [smallest, largest] =
           std::minmax_element(ids.begin(), ids.end());
         const std::uint64_t range = std::uint64_t(*largest) - *smallest + 1;
-        if (allow_table && range <= 4 * std::uint64_t(ids.size()) + 1024)
+        if (allow_table && *largest != numbers::invalid_coarse_cell_id &&
+            range <= 4 * std::uint64_t(ids.size()) + 1024)
           {
             first_id = *smallest;
             index_of_id.assign(range, numbers::invalid_unsigned_int);

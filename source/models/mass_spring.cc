@@ -611,16 +611,23 @@ namespace softface
                      j < colouring->block_start[b + 1];
                      ++j)
                   block_work[b] += is_free[j];
-              // Every point's position on every rank: a new ghost's too.
-              exchange->gather(&x[0][0]);
-              const unsigned int owned_before = exchange->n_owned_points();
-              exchange = std::make_unique<PointExchange>(*colouring,
-                                                         *mesh,
-                                                         communicator,
-                                                         block_work);
-              mine     = points_to_update(*mesh, exchange.get());
-              rebalances +=
-                global_max(owned_before != exchange->n_owned_points()) > 0.;
+              // The same on every rank (block_work is): unchanged ranges
+              // keep the exchange.
+              if (PointExchange::block_ranges(*colouring,
+                                              *mesh,
+                                              Utilities::MPI::n_mpi_processes(
+                                                communicator),
+                                              block_work) != exchange->ranges())
+                {
+                  // Every point's position on every rank: a new ghost's too.
+                  exchange->gather(&x[0][0]);
+                  exchange = std::make_unique<PointExchange>(*colouring,
+                                                             *mesh,
+                                                             communicator,
+                                                             block_work);
+                  mine     = points_to_update(*mesh, exchange.get());
+                  ++rebalances;
+                }
               std::fill(block_work.begin(), block_work.end(), 0.);
             }
         }
@@ -678,7 +685,9 @@ namespace softface
           // with the most updates in it.
           add_detail("busiest rank's point updates",
                      Utilities::MPI::max(own_updates, communicator));
-          add_detail("blocks shared again", rebalances);
+          // The ranges and ghosts above are the last load step's; the next
+          // plan starts from them.
+          add_detail("load steps that moved blocks between ranks", rebalances);
         }
       for (const auto &t : tetrahedra)
         last_report.inverted_tetrahedra +=

@@ -15,6 +15,42 @@
 
 namespace softface
 {
+  std::vector<unsigned int>
+  PointExchange::block_ranges(const BlockColouring      &colouring,
+                              const Models::PointMesh   &mesh,
+                              const unsigned int         n_ranks,
+                              const std::vector<double> &block_work)
+  {
+    const auto        &start    = colouring.block_start;
+    const unsigned int n_blocks = colouring.n_blocks();
+    AssertThrow(block_work.empty() || block_work.size() == n_blocks,
+                ExcMessage("One figure of work per block."));
+    // Consecutive blocks per rank, as much work each as can be: by default
+    // a block's free points (join points are not updated).
+    std::vector<double> work_before(n_blocks + 1, 0.);
+    for (unsigned int b = 0; b < n_blocks; ++b)
+      {
+        double work = 0.;
+        if (block_work.empty())
+          for (unsigned int j = start[b]; j < start[b + 1]; ++j)
+            work += mesh.is_free[j];
+        else
+          work = block_work[b];
+        work_before[b + 1] = work_before[b] + work;
+      }
+    // Rank r's blocks begin at the first block with at least r / n_ranks of
+    // the work before it (one pass for all ranks).
+    std::vector<unsigned int> first_block(n_ranks + 1, n_blocks);
+    for (unsigned int r = 0, b = 0; r < n_ranks; ++r)
+      {
+        while (b < n_blocks &&
+               work_before[b] * n_ranks < work_before[n_blocks] * r)
+          ++b;
+        first_block[r] = b;
+      }
+    return first_block;
+  }
+
   PointExchange::PointExchange(const BlockColouring      &colouring,
                                const Models::PointMesh   &mesh,
                                const MPI_Comm             communicator,
@@ -30,34 +66,9 @@ namespace softface
     AssertThrow(row_start.size() == n_points + 1 &&
                   is_free.size() == n_points && start.back() == n_points,
                 ExcMessage("The point mesh does not match the colouring."));
-    AssertThrow(block_work.empty() || block_work.size() == n_blocks,
-                ExcMessage("One figure of work per block."));
-
-    // Consecutive blocks per rank, as much work each as can be: by default
-    // a block's free points (join points are not updated).
-    const unsigned int  n_ranks = Utilities::MPI::n_mpi_processes(communicator);
-    const unsigned int  rank = Utilities::MPI::this_mpi_process(communicator);
-    std::vector<double> work_before(n_blocks + 1, 0.);
-    for (unsigned int b = 0; b < n_blocks; ++b)
-      {
-        double work = 0.;
-        if (block_work.empty())
-          for (unsigned int j = start[b]; j < start[b + 1]; ++j)
-            work += is_free[j];
-        else
-          work = block_work[b];
-        work_before[b + 1] = work_before[b] + work;
-      }
-    // Rank r's blocks begin at the first block with at least r / n_ranks of
-    // the work before it (one pass for all ranks).
-    std::vector<unsigned int> first_block(n_ranks + 1, n_blocks);
-    for (unsigned int r = 0, b = 0; r < n_ranks; ++r)
-      {
-        while (b < n_blocks &&
-               work_before[b] * n_ranks < work_before[n_blocks] * r)
-          ++b;
-        first_block[r] = b;
-      }
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
+    first_block = block_ranges(colouring, mesh, n_ranks, block_work);
     first_point = start[first_block[rank]];
     end_point   = start[first_block[rank + 1]];
     // Every rank's range, for gather().

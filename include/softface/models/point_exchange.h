@@ -52,6 +52,22 @@ namespace softface
                   const MPI_Comm             communicator,
                   const std::vector<double> &block_work = {});
 
+    /// The first block of each of @p n_ranks ranks (and, last, the number
+    /// of blocks) when the ranges balance @p block_work as the constructor
+    /// does.
+    static std::vector<unsigned int>
+    block_ranges(const BlockColouring      &colouring,
+                 const Models::PointMesh   &mesh,
+                 const unsigned int         n_ranks,
+                 const std::vector<double> &block_work = {});
+
+    /// block_ranges() of this exchange.
+    const std::vector<unsigned int> &
+    ranges() const
+    {
+      return first_block;
+    }
+
     const MPI_Comm communicator;
 
     /// Is @p point updated on this rank?
@@ -113,9 +129,10 @@ namespace softface
              const bool                 any_change,
              std::vector<unsigned int> &moved) const;
 
-    unsigned int n_points    = 0;
-    unsigned int first_point = 0, end_point = 0;
-    unsigned int n_ghosts = 0;
+    unsigned int              n_points = 0;
+    std::vector<unsigned int> first_block;
+    unsigned int              first_point = 0, end_point = 0;
+    unsigned int              n_ghosts = 0;
     /// Every rank's values: where they begin and how many (gather()).
     std::vector<int> value_offsets, value_counts;
 
