@@ -15,7 +15,7 @@
 //   distributed triangulation built from the same description, in the same
 //   order, with the same owners and vertices, and its lookup answers each
 //   cell's index, with the table and with the binary search kept for
-//   scattered ids.
+//   scattered ids, also on a rank without cells.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -29,7 +29,7 @@
 #include "tests.h"
 
 #include <algorithm>
-#include <array>
+#include <cstdint>
 #include <map>
 
 using namespace softface_tests;
@@ -42,6 +42,83 @@ namespace
   field(const Point<3> &x, const unsigned int component)
   {
     return x[0] + 2. * x[1] + 3. * x[2] + 1000. * component;
+  }
+
+  /// Each of @p ours against deal.II's own fully distributed triangulation
+  /// @p reference built from the same description: the same cells, owners
+  /// and vertices in the same order, and the coarse cell lookup answering
+  /// each cell's level-0 index. Collective.
+  void
+  check_against_dealii(
+    const std::string                                   &indent,
+    const parallel::fullydistributed::Triangulation<3>  &reference,
+    const std::vector<const DistributedTriangulation *> &ours)
+  {
+    unsigned int differences = 0, wrong_lookups = 0;
+    for (const DistributedTriangulation *tria : ours)
+      {
+        differences += tria->n_active_cells() != reference.n_active_cells();
+        auto other = reference.begin_active();
+        for (const auto &cell : tria->active_cell_iterators())
+          {
+            if (other == reference.end())
+              break;
+            for (const unsigned int v : cell->vertex_indices())
+              differences += cell->vertex(v) != other->vertex(v);
+            differences += cell->is_artificial() != other->is_artificial();
+            // A rank without cells holds deal.II's dummy cell, which has no
+            // id.
+            if (!cell->is_artificial() && !other->is_artificial())
+              {
+                differences += cell->id() != other->id() ||
+                               cell->subdomain_id() != other->subdomain_id();
+                const auto id = cell->id().get_coarse_cell_id();
+                // A coarse cell's index is its index on level 0.
+                wrong_lookups +=
+                  tria->coarse_cell_id_to_coarse_cell_index(id) !=
+                  static_cast<unsigned int>(other->index());
+              }
+            ++other;
+          }
+      }
+    const MPI_Comm comm = reference.get_communicator();
+    check_equal(indent +
+                  "cells unlike deal.II's fully distributed triangulation",
+                Utilities::MPI::sum(differences, comm),
+                0);
+    check_equal(indent + "coarse cells looked up wrong",
+                Utilities::MPI::sum(wrong_lookups, comm),
+                0);
+  }
+
+  /// The last rank owns no cell (deal.II gives it one artificial cell):
+  /// DistributedTriangulation, with the table and with the search, against
+  /// deal.II's own.
+  void
+  check_rank_without_cells(const Scene &scene)
+  {
+    const MPI_Comm     comm    = MPI_COMM_WORLD;
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    Triangulation<3>   partitioned;
+    partitioned.copy_triangulation(scene.triangulation);
+    const std::uint64_t n_cells = partitioned.n_active_cells();
+    for (const auto &cell : partitioned.active_cell_iterators())
+      cell->set_subdomain_id(static_cast<types::subdomain_id>(
+        std::uint64_t(cell->active_cell_index()) * (n_ranks - 1) / n_cells));
+    const auto description = TriangulationDescription::Utilities::
+      create_description_from_triangulation(partitioned, comm);
+    parallel::fullydistributed::Triangulation<3> reference(comm);
+    reference.create_triangulation(description);
+    DistributedTriangulation table(comm), searched(comm, false);
+    table.create_triangulation(description);
+    searched.create_triangulation(description);
+    deallog << "the last rank without cells:" << std::endl;
+    check_equal("  locally owned cells of the last rank",
+                Utilities::MPI::broadcast(comm,
+                                          table.n_locally_owned_active_cells(),
+                                          n_ranks - 1),
+                0);
+    check_against_dealii("  ", reference, {&table, &searched});
   }
 
   void
@@ -167,34 +244,7 @@ namespace
       deallog << "  ranks looking coarse cells up in a table: " << with_table
               << " of " << n_ranks << std::endl;
 
-      unsigned int differences = 0, wrong_lookups = 0;
-      for (const DistributedTriangulation *ours :
-           std::array<const DistributedTriangulation *, 2>{
-             {&layout.triangulation, &searched}})
-        {
-          differences += ours->n_active_cells() != reference.n_active_cells();
-          auto other = reference.begin_active();
-          for (const auto &cell : ours->active_cell_iterators())
-            {
-              if (other == reference.end())
-                break;
-              differences += cell->id() != other->id() ||
-                             cell->subdomain_id() != other->subdomain_id();
-              for (const unsigned int v : cell->vertex_indices())
-                differences += cell->vertex(v) != other->vertex(v);
-              const auto id = cell->id().get_coarse_cell_id();
-              // A coarse cell's index is its index on level 0.
-              wrong_lookups += ours->coarse_cell_id_to_coarse_cell_index(id) !=
-                               static_cast<unsigned int>(other->index());
-              ++other;
-            }
-        }
-      check_equal("  cells unlike deal.II's fully distributed triangulation",
-                  Utilities::MPI::sum(differences, comm),
-                  0);
-      check_equal("  coarse cells looked up wrong (table, search)",
-                  Utilities::MPI::sum(wrong_lookups, comm),
-                  0);
+      check_against_dealii("  ", reference, {&layout.triangulation, &searched});
     }
 
     // Scatter and gather give a serial field back exactly.
@@ -237,6 +287,7 @@ SOFTFACE_TEST(distributed_layout)
   // METIS's parts may change with its version: the counts per rank are not
   // printed.
   check_layout("generated cube, metis", cube, Partitioner::metis, false);
+  check_rank_without_cells(cube);
 
   ParameterHandler prm;
   Scene            gmsh;
