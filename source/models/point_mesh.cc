@@ -41,23 +41,40 @@ namespace softface
           tetrahedra.push_back(p);
         }
 
-      // Neighbours of every point, sorted, then the CSR structure.
-      std::vector<std::vector<unsigned int>> adjacent(n);
+      // The tetrahedra of every point (CSR), then each point's neighbours
+      // once each (a mark per point) and sorted: sorting every tetrahedron's
+      // entry of a neighbour (about 68 per point, 14 of them distinct) took
+      // 4.7 times as long on a gmsh mesh as on the generated cube, whose
+      // entries come nearly in order.
+      std::vector<unsigned int> tet_start(n + 1, 0);
       for (const auto &p : tetrahedra)
-        for (unsigned int a = 0; a < 4; ++a)
-          for (unsigned int b = 0; b < 4; ++b)
-            if (a != b)
-              adjacent[p[a]].push_back(p[b]);
+        for (const unsigned int a : p)
+          ++tet_start[a + 1];
+      for (unsigned int j = 0; j < n; ++j)
+        tet_start[j + 1] += tet_start[j];
+      std::vector<unsigned int> tets_of_point(tet_start[n]);
+      {
+        auto next = tet_start;
+        for (unsigned int t = 0; t < tetrahedra.size(); ++t)
+          for (const unsigned int a : tetrahedra[t])
+            tets_of_point[next[a]++] = t;
+      }
       row_start.assign(n + 1, 0);
       neighbour.clear();
+      neighbour.reserve(std::size_t(tet_start[n]) * 3 / 4);
+      std::vector<unsigned int> mark(n, numbers::invalid_unsigned_int);
       for (unsigned int j = 0; j < n; ++j)
         {
-          auto &a = adjacent[j];
-          std::sort(a.begin(), a.end());
-          a.erase(std::unique(a.begin(), a.end()), a.end());
-          neighbour.insert(neighbour.end(), a.begin(), a.end());
+          const std::size_t row = neighbour.size();
+          for (unsigned int i = tet_start[j]; i < tet_start[j + 1]; ++i)
+            for (const unsigned int k : tetrahedra[tets_of_point[i]])
+              if (k != j && mark[k] != j)
+                {
+                  mark[k] = j;
+                  neighbour.push_back(k);
+                }
+          std::sort(neighbour.begin() + row, neighbour.end());
           row_start[j + 1] = neighbour.size();
-          std::vector<unsigned int>().swap(a);
         }
     }
 
@@ -70,11 +87,15 @@ namespace softface
     unsigned int
     PointMesh::edge_index(const unsigned int j, const unsigned int k) const
     {
-      const auto begin = neighbour.begin() + row_start[j];
-      const auto end   = neighbour.begin() + row_start[j + 1];
-      const auto it    = std::lower_bound(begin, end, k);
-      Assert(it != end && *it == k, ExcMessage("not a neighbour"));
-      return it - neighbour.begin();
+      // The neighbours before k, counted without a branch: a binary search
+      // over a row of about 14 mispredicts its branches on an irregular
+      // mesh (6 times the generated cube's cost on a gmsh mesh).
+      unsigned int index = row_start[j];
+      for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+        index += neighbour[i] < k;
+      Assert(index < row_start[j + 1] && neighbour[index] == k,
+             ExcMessage("not a neighbour"));
+      return index;
     }
   } // namespace Models
 } // namespace softface
