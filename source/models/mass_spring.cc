@@ -152,19 +152,6 @@ namespace softface
           total_stiffness[spring.b] += spring.stiffness;
         }
 
-      tet_start.assign(n + 1, 0);
-      for (const auto &t : mesh->tetrahedra)
-        for (const unsigned int p : t)
-          ++tet_start[p + 1];
-      for (unsigned int j = 0; j < n; ++j)
-        tet_start[j + 1] += tet_start[j];
-      tets_of_point.resize(tet_start[n]);
-      std::vector<unsigned int> next_slot(tet_start.begin(),
-                                          tet_start.end() - 1);
-      for (unsigned int t = 0; t < mesh->tetrahedra.size(); ++t)
-        for (const unsigned int p : mesh->tetrahedra[t])
-          tets_of_point[next_slot[p]++] = t;
-
       add_detail("springs", spring_list.size());
       timed.stop();
 
@@ -201,6 +188,8 @@ namespace softface
       const auto        &other_end     = mesh->neighbour;
       const auto        &is_free       = mesh->is_free;
       const auto        &tetrahedra    = mesh->tetrahedra;
+      const auto        &tet_start     = mesh->tet_start;
+      const auto        &tets_of_point = mesh->tets_of_point;
       const auto        &rest_position = mesh->position;
       const unsigned int n             = rest_position.size();
       // The points this rank moves: the free ones, on several MPI ranks
@@ -600,17 +589,12 @@ namespace softface
             }
 
           // After a load step (no point is pending on any rank): the blocks
-          // shared again by its updates, and each block's free points, so
-          // that blocks it did not reach still spread.
+          // shared again by its updates (PointExchange adds each block's
+          // free points, so that blocks it did not reach still spread).
           if (!block_work.empty() && load_step < n_load_steps)
             {
               const auto timed = phase("rebalance");
               Utilities::MPI::sum(block_work, communicator, block_work);
-              for (unsigned int b = 0; b < n_blocks; ++b)
-                for (unsigned int j = colouring->block_start[b];
-                     j < colouring->block_start[b + 1];
-                     ++j)
-                  block_work[b] += is_free[j];
               // The same on every rank (block_work is): unchanged ranges
               // keep the exchange.
               if (PointExchange::block_ranges(*colouring,

@@ -25,17 +25,14 @@ namespace softface
     const unsigned int n_blocks = colouring.n_blocks();
     AssertThrow(block_work.empty() || block_work.size() == n_blocks,
                 ExcMessage("One figure of work per block."));
-    // Consecutive blocks per rank, as much work each as can be: by default
-    // a block's free points (join points are not updated).
+    // Consecutive blocks per rank, as much work each as can be: a block's
+    // free points (join points are not updated) and its measured work.
     std::vector<double> work_before(n_blocks + 1, 0.);
     for (unsigned int b = 0; b < n_blocks; ++b)
       {
-        double work = 0.;
-        if (block_work.empty())
-          for (unsigned int j = start[b]; j < start[b + 1]; ++j)
-            work += mesh.is_free[j];
-        else
-          work = block_work[b];
+        double work = block_work.empty() ? 0. : block_work[b];
+        for (unsigned int j = start[b]; j < start[b + 1]; ++j)
+          work += mesh.is_free[j];
         work_before[b + 1] = work_before[b] + work;
       }
     // Rank r's blocks begin at the first block with at least r / n_ranks of

@@ -46,13 +46,13 @@ namespace softface
       // entry of a neighbour (about 68 per point, 14 of them distinct) took
       // 4.7 times as long on a gmsh mesh as on the generated cube, whose
       // entries come nearly in order.
-      std::vector<unsigned int> tet_start(n + 1, 0);
+      tet_start.assign(n + 1, 0);
       for (const auto &p : tetrahedra)
         for (const unsigned int a : p)
           ++tet_start[a + 1];
       for (unsigned int j = 0; j < n; ++j)
         tet_start[j + 1] += tet_start[j];
-      std::vector<unsigned int> tets_of_point(tet_start[n]);
+      tets_of_point.resize(tet_start[n]);
       {
         auto next = tet_start;
         for (unsigned int t = 0; t < tetrahedra.size(); ++t)

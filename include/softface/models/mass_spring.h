@@ -114,12 +114,10 @@ namespace softface
       std::unique_ptr<BlockColouring> colouring;
       std::vector<Spring>             spring_list;
       // Per point: its springs run along its neighbours (mesh->row_start,
-      // ->neighbour); the spring of each such edge, the sum of the point's
-      // spring constants, and the tetrahedra around the point (CSR).
+      // ->neighbour); the spring of each such edge and the sum of the
+      // point's spring constants.
       std::vector<unsigned int> spring_of;
       std::vector<double>       total_stiffness;
-      std::vector<unsigned int> tet_start;
-      std::vector<unsigned int> tets_of_point;
 
       Report last_report;
     };

@@ -43,9 +43,9 @@ namespace softface
   public:
     /**
      * The ranks' ranges of @p colouring's blocks, and for each colour who
-     * reads which of the colour's points. The ranges balance @p block_work
-     * (one figure per block, the same on every rank), by default each
-     * block's free points. Collective.
+     * reads which of the colour's points. The ranges balance each block's
+     * free points plus its @p block_work (one figure per block, the same on
+     * every rank; none by default). Collective.
      */
     PointExchange(const BlockColouring      &colouring,
                   const Models::PointMesh   &mesh,

@@ -42,6 +42,10 @@ namespace softface
       /// .. row_start[j + 1]) (every point sharing a tetrahedron with j).
       std::vector<unsigned int> row_start;
       std::vector<unsigned int> neighbour;
+      /// The tetrahedra around point j are tets_of_point[tet_start[j] ..
+      /// tet_start[j + 1]) (indices into tetrahedra, ascending).
+      std::vector<unsigned int> tet_start;
+      std::vector<unsigned int> tets_of_point;
     };
   } // namespace Models
 } // namespace softface
