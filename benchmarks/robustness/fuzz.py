@@ -3,6 +3,7 @@
 
     /usr/bin/python3 benchmarks/robustness/fuzz.py [--softface PATH] [--cases N] [--seed S]
         [--timeout SECONDS] [--jobs J] [--out DIR] [--keep DIR] [--strict] [--binary-note TEXT]
+        [--ranks R] [--mpiexec PATH]
 
 Each case takes one seed (a valid scene: the templates below, with a gmsh 4.1 or
 gmsh 2.2, legacy VTK or .vtu mesh, or the parameter file itself), applies one to three
@@ -16,6 +17,12 @@ extreme one) and runs softface on it with a time limit. Outcomes:
     crash      killed by a signal (SIGSEGV, SIGABRT, ...)
     hang       still running at the time limit
 
+With --ranks R (more than 1) each case runs as `mpiexec -n R softface scene.prm` (issue 20: an
+error on any rank must end every rank with one message): *refused* then also asks that the
+`softface: error` line come exactly once; two or more are *unclear*, and a rank killed by a
+signal (mpiexec's "exited on signal") is a *crash*. At the time limit the whole process group
+(mpiexec and its ranks) is killed.
+
 Writes DIR/robustness.{md,csv,png} (DIR defaults to doc/results of this repository) with the
 counts by seed and outcome, and keeps every input that did not end ok or refused in --keep
 (default /tmp/softface_fuzz_kept) to reproduce it. Standard library only (matplotlib for the
@@ -26,6 +33,7 @@ import os
 import random
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -159,7 +167,7 @@ def mutate(data, rng):
     return data, "+".join(done) or "none"
 
 
-def run_case(case, softface, timeout, keep):
+def run_case(case, softface, timeout, keep, launcher):
     """Run one mutated input in its own folder; returns the row."""
     work = tempfile.mkdtemp(prefix="softface_fuzz_")
     try:
@@ -177,21 +185,28 @@ def run_case(case, softface, timeout, keep):
             with open(os.path.join(work, "scene.prm"), "wb") as f:
                 f.write(case["data"] + b"\n" + OUTPUT.format(out=out).encode())
         t0 = time.time()
+        # A session of its own: at the time limit mpiexec and its ranks go together.
+        proc = subprocess.Popen(launcher + [softface, "scene.prm"], cwd=work,
+                                stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                start_new_session=True)
         try:
-            proc = subprocess.run([softface, "scene.prm"], cwd=work, capture_output=True,
-                                  timeout=timeout)
-            rc, text = proc.returncode, (proc.stdout + proc.stderr).decode("utf-8", "replace")
-        except subprocess.TimeoutExpired as e:
-            rc, text = None, ((e.stdout or b"") + (e.stderr or b"")).decode("utf-8", "replace")
+            output, _ = proc.communicate(timeout=timeout)
+            rc = proc.returncode
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            output, _ = proc.communicate()
+            rc = None
+        text = output.decode("utf-8", "replace")
         seconds = time.time() - t0
         errors = [l for l in text.splitlines() if l.startswith("softface: error")]
+        several = len(launcher) > 0
         if rc is None:
             outcome = "hang"
-        elif rc < 0:
+        elif rc < 0 or (several and "exited on signal" in text):
             outcome = "crash"
         elif rc == 0:
             outcome = "nan" if outputs_not_finite(out) else "ok"
-        elif errors:
+        elif len(errors) == 1 or (errors and not several):
             outcome = "refused"
         else:
             outcome = "unclear"
@@ -226,7 +241,7 @@ def main(argv):
     opts = {"--softface": os.path.join(ROOT, "build", "softface"), "--cases": "300",
             "--seed": "1", "--timeout": "30", "--jobs": "2",
             "--out": os.path.join(ROOT, "doc", "results"), "--keep": "/tmp/softface_fuzz_kept",
-            "--strict": None, "--binary-note": None}
+            "--strict": None, "--binary-note": None, "--ranks": "1", "--mpiexec": "mpiexec"}
     it = iter(argv[1:])
     for a in it:
         if a == "--strict":
@@ -238,6 +253,15 @@ def main(argv):
     softface = os.path.abspath(opts["--softface"])
     if not os.access(softface, os.X_OK):
         sys.exit("fuzz.py: %s is not an executable (build softface first)" % softface)
+    ranks = int(opts["--ranks"])
+    launcher = []
+    if ranks > 1:
+        launcher = [opts["--mpiexec"], "-n", str(ranks)]
+        if ranks > (os.cpu_count() or 1):
+            launcher.append("--oversubscribe")
+        if os.geteuid() == 0:  # Open MPI refuses root unless told
+            os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
+            os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     rng = random.Random(int(opts["--seed"]))
     seeds = {}
     for name, (mesh, scene) in SEED_FILES.items():
@@ -260,7 +284,7 @@ def main(argv):
     t0 = time.time()
     rows = []
     with ThreadPoolExecutor(max_workers=int(opts["--jobs"])) as pool:
-        futures = [pool.submit(run_case, c, softface, float(opts["--timeout"]), keep)
+        futures = [pool.submit(run_case, c, softface, float(opts["--timeout"]), keep, launcher)
                    for c in cases]
         for k, fut in enumerate(futures):
             row = fut.result()
@@ -292,8 +316,9 @@ def write_results(opts, rows, seconds, softface):
                             capture_output=True, text=True).stdout.strip()
     md = ["# Robustness: softface on mutated inputs (issue 15)", "",
           "Made by `/usr/bin/python3 benchmarks/robustness/fuzz.py --cases %s --seed %s "
-          "--timeout %s --jobs %s` at %s (repository at %s; %s), %d cases in %.0f s." % (
+          "--timeout %s --jobs %s%s` at %s (repository at %s; %s), %d cases in %.0f s." % (
               opts["--cases"], opts["--seed"], opts["--timeout"], opts["--jobs"],
+              "" if opts["--ranks"] == "1" else " --ranks " + opts["--ranks"],
               time.strftime("%Y-%m-%d %H:%M"), commit, opts["--binary-note"] or
               "binary built %s" % time.strftime(
                   "%Y-%m-%d %H:%M", time.localtime(os.path.getmtime(softface))),
