@@ -111,8 +111,14 @@ namespace softface
     }
 
     void
-    assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness)
+    assemble_p1_stiffness(
+      const Scene                                    &scene,
+      SparseMatrix<double>                           &stiffness,
+      const PointBlockPattern                        *pattern,
+      const std::vector<std::array<unsigned int, 4>> *points_of_cell)
     {
+      Assert((pattern == nullptr) == (points_of_cell == nullptr),
+             ExcMessage("A pattern needs the cells' points."));
       // One tangent per tissue (one without heterogeneous tissue).
       std::vector<Tensor<4, 3>> A;
       for (unsigned int t = 0; t < scene.n_tissues(); ++t)
@@ -129,16 +135,42 @@ namespace softface
         }
       RowPartition partition;
       partition.reinit(dofs, stiffness.m(), Threads::n_threads());
+      // A square matrix stores the diagonal first in each row, so entry
+      // (0,0) starts its value array.
+      double *const values =
+        stiffness.m() > 0 ? &stiffness.diag_element(0) : nullptr;
       Threads::run_tasks(partition.n_parts(), [&](const unsigned int p) {
+        const auto                    first = partition.first_row_of(p);
+        const auto                    end   = partition.first_row_of(p + 1);
+        std::array<unsigned int, 144> positions;
         for (const unsigned int c : partition.cells(p))
-          ConstrainedSystem::add_cell_matrix(
-            dofs[c],
-            ConstrainedSystem::sorted_order(dofs[c]),
-            p1_stiffness(Tetrahedron::geometry(Tetrahedron::vertices(cells[c])),
-                         A[scene.tissue_of_cell(c)]),
-            stiffness,
-            partition.first_row_of(p),
-            partition.first_row_of(p + 1));
+          {
+            const CellMatrix K =
+              p1_stiffness(Tetrahedron::geometry(
+                             Tetrahedron::vertices(cells[c])),
+                           A[scene.tissue_of_cell(c)]);
+            if (pattern == nullptr)
+              {
+                ConstrainedSystem::add_cell_matrix(
+                  dofs[c],
+                  ConstrainedSystem::sorted_order(dofs[c]),
+                  K,
+                  stiffness,
+                  first,
+                  end);
+                continue;
+              }
+            pattern->cell_positions((*points_of_cell)[c], positions.data());
+            for (unsigned int r = 0; r < 12; ++r)
+              {
+                if (dofs[c][r] < first || dofs[c][r] >= end)
+                  continue;
+                const unsigned int *position = &positions[12 * r];
+                for (unsigned int b = 0; b < 4; ++b)
+                  for (unsigned int j = 0; j < 3; ++j)
+                    values[*position++] += K[r / 3][b][r % 3][j];
+              }
+          }
       });
     }
 

@@ -7,7 +7,9 @@
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/distributed_elasticity.h>
 #include <softface/fe/elasticity.h>
+#include <softface/fe/point_block_pattern.h>
 #include <softface/models/linear_fem.h>
+#include <softface/models/point_mesh.h>
 
 #include <sstream>
 
@@ -87,15 +89,33 @@ namespace softface
           setup_distributed();
           return;
         }
+      // Without vertex constraints (whose fill joins a slit's sides) the
+      // pattern is the points' neighbours (PointBlockPattern).
+      std::unique_ptr<PointMesh>         points;
+      std::unique_ptr<PointBlockPattern> pattern;
       {
         const auto timed = phase("sparsity");
-        ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
+        if (!scene->has_vertex_constraints() && scene->dofs_are_point_blocks())
+          {
+            points  = std::make_unique<PointMesh>(*scene, "linear fem");
+            pattern = std::make_unique<PointBlockPattern>(points->row_start,
+                                                          points->neighbour);
+            pattern->make_sparsity(sparsity);
+          }
+        else
+          ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
       }
       {
         const auto timed = phase("assemble");
         stiffness.reinit(sparsity);
-        Elasticity::assemble_p1_stiffness(*scene, stiffness);
+        Elasticity::assemble_p1_stiffness(*scene,
+                                          stiffness,
+                                          pattern.get(),
+                                          points ? &points->tetrahedra :
+                                                   nullptr);
       }
+      pattern.reset();
+      points.reset();
       // The coupling K_fj that the elimination removes stays available in
       // 'stiffness' for the right-hand side of every planning.
       {

@@ -5,7 +5,9 @@
 #include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
+#include <softface/fe/point_block_pattern.h>
 #include <softface/models/nonlinear_fem.h>
+#include <softface/models/point_mesh.h>
 
 #include <algorithm>
 
@@ -86,11 +88,24 @@ namespace softface
 
       const auto timed = phase("matrix positions");
       partition.reinit(cell_dofs, is_join.size(), Threads::n_threads());
-      ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
       // Where each of a cell's 144 tangent entries lives in the matrix's
       // value array: every Newton iteration adds to them directly instead of
-      // searching the rows (which took most of the assembly time).
+      // searching the rows (which took most of the assembly time). Without
+      // vertex constraints (whose fill joins a slit's sides) from the
+      // points' neighbours (PointBlockPattern), else by a merge along each
+      // row of deal.II's pattern.
       cell_entry_positions.resize(144 * cell_dofs.size());
+      if (!scene->has_vertex_constraints() && scene->dofs_are_point_blocks())
+        {
+          const PointMesh         points(*scene, model_name);
+          const PointBlockPattern pattern(points.row_start, points.neighbour);
+          pattern.make_sparsity(sparsity);
+          for (unsigned int c = 0; c < cell_dofs.size(); ++c)
+            pattern.cell_positions(points.tetrahedra[c],
+                                   &cell_entry_positions[144 * c]);
+          return;
+        }
+      ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);
       for (unsigned int c = 0; c < cell_dofs.size(); ++c)
         {
           const auto &dofs  = cell_dofs[c];

@@ -13,6 +13,7 @@
 #include <softface/core/scene.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/material_law.h>
+#include <softface/fe/point_block_pattern.h>
 
 #include <array>
 
@@ -79,9 +80,16 @@ namespace softface
                 P1Response                        &response);
 
     /// The unconstrained linear-elastic stiffness of the scene (P1, on the
-    /// shared layout; the matrix's sparsity is already set).
+    /// shared layout; the matrix's sparsity is already set). With
+    /// @p pattern (the matrix is on its sparsity, the scene's cells in the
+    /// points of @p points_of_cell) each entry goes straight to its place;
+    /// otherwise each row is merged into the matrix's.
     void
-    assemble_p1_stiffness(const Scene &scene, SparseMatrix<double> &stiffness);
+    assemble_p1_stiffness(
+      const Scene                                    &scene,
+      SparseMatrix<double>                           &stiffness,
+      const PointBlockPattern                        *pattern        = nullptr,
+      const std::vector<std::array<unsigned int, 4>> *points_of_cell = nullptr);
 
     /**
      * The nodal loads of a body force given per unit volume in each cell
