@@ -3,7 +3,7 @@
 
     /usr/bin/python3 benchmarks/robustness/fuzz.py [--softface PATH] [--cases N] [--seed S]
         [--timeout SECONDS] [--jobs J] [--out DIR] [--keep DIR] [--strict] [--binary-note TEXT]
-        [--ranks R] [--mpiexec PATH]
+        [--ranks R] [--mpiexec PATH]   (Open MPI's mpiexec)
 
 Each case takes one seed (a valid scene: the templates below, with a gmsh 4.1 or
 gmsh 2.2, legacy VTK or .vtu mesh, or the parameter file itself), applies one to three
@@ -20,8 +20,8 @@ extreme one) and runs softface on it with a time limit. Outcomes:
 With --ranks R (more than 1) each case runs as `mpiexec -n R softface scene.prm` (issue 20: an
 error on any rank must end every rank with one message): *refused* then also asks that the
 `softface: error` line come exactly once; two or more are *unclear*, and a rank killed by a
-signal (mpiexec's "exited on signal") is a *crash*. At the time limit the whole process group
-(mpiexec and its ranks) is killed.
+signal (Open MPI's "exited on signal") is a *crash*. At the time limit mpiexec is asked to end
+and then every process left in the case's session (its ranks too) is killed.
 
 Writes DIR/robustness.{md,csv,png} (DIR defaults to doc/results of this repository) with the
 counts by seed and outcome, and keeps every input that did not end ok or refused in --keep
@@ -185,7 +185,7 @@ def run_case(case, softface, timeout, keep, launcher):
             with open(os.path.join(work, "scene.prm"), "wb") as f:
                 f.write(case["data"] + b"\n" + OUTPUT.format(out=out).encode())
         t0 = time.time()
-        # A session of its own: at the time limit mpiexec and its ranks go together.
+        # A session of its own, so that at the time limit every process it started can be found.
         proc = subprocess.Popen(launcher + [softface, "scene.prm"], cwd=work,
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                 start_new_session=True)
@@ -193,12 +193,13 @@ def run_case(case, softface, timeout, keep, launcher):
             output, _ = proc.communicate(timeout=timeout)
             rc = proc.returncode
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
+            end_session(proc)
             output, _ = proc.communicate()
             rc = None
         text = output.decode("utf-8", "replace")
         seconds = time.time() - t0
-        errors = [l for l in text.splitlines() if l.startswith("softface: error")]
+        # Counted in the text, not per line: ranks' lines can share one in the merged output.
+        errors = re.findall(r"softface: error[^\n]*", text)
         several = len(launcher) > 0
         if rc is None:
             outcome = "hang"
@@ -223,6 +224,34 @@ def run_case(case, softface, timeout, keep, launcher):
         return row
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def end_session(proc):
+    """Stop a case at its time limit: mpiexec is asked first (it ends its ranks), then every
+    process left in the case's session is killed. Open MPI puts each rank in a process group of
+    its own, so killing mpiexec's group alone leaves them running."""
+    try:
+        proc.terminate()
+        proc.wait(timeout=5)
+    except (subprocess.TimeoutExpired, ProcessLookupError):
+        pass
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                fields = f.read().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[3]) == proc.pid:  # the session id (field 6 of /proc/PID/stat)
+            try:
+                os.kill(int(entry), signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+    try:
+        proc.kill()
+    except ProcessLookupError:
+        pass
 
 
 def outputs_not_finite(out):

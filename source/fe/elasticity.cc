@@ -10,6 +10,7 @@
 #include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
+#include <softface/fe/point_block_pattern.h>
 #include <softface/fe/row_partition.h>
 
 #include <algorithm>
@@ -119,6 +120,12 @@ namespace softface
     {
       Assert((pattern == nullptr) == (points_of_cell == nullptr),
              ExcMessage("A pattern needs the cells' points."));
+      // Entries go straight into the value array: the matrix must be on
+      // the pattern's sparsity.
+      AssertThrow(pattern == nullptr ||
+                    stiffness.n_nonzero_elements() == pattern->n_entries(),
+                  ExcMessage("The stiffness is not on the PointBlockPattern's "
+                             "sparsity."));
       // One tangent per tissue (one without heterogeneous tissue).
       std::vector<Tensor<4, 3>> A;
       for (unsigned int t = 0; t < scene.n_tissues(); ++t)

@@ -3,6 +3,9 @@
 
 #include <softface/fe/point_block_pattern.h>
 
+#include <cstdint>
+#include <limits>
+
 namespace softface
 {
   PointBlockPattern::PointBlockPattern(
@@ -14,6 +17,17 @@ namespace softface
     AssertThrow(!row_start.empty() && row_start.back() == neighbour.size(),
                 ExcMessage("PointBlockPattern: row_start does not end at the "
                            "number of neighbours."));
+    // Places are unsigned int, as the nonlinear FEM stores them.
+    AssertThrow(9 * (std::uint64_t(neighbour.size()) + row_start.size()) <=
+                  std::numeric_limits<unsigned int>::max(),
+                ExcMessage("PointBlockPattern: the matrix has more entries "
+                           "than an unsigned int counts."));
+  }
+
+  std::size_t
+  PointBlockPattern::n_entries() const
+  {
+    return 9 * (neighbour.size() + row_start.size() - 1);
   }
 
   void

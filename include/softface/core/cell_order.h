@@ -44,9 +44,10 @@ namespace softface
     /**
      * The position of each point on a Hilbert curve through the points'
      * bounding box with @p bits bits per direction, packed into one integer:
-     * deal.II's Utilities::inverse_Hilbert_space_filling_curve() and
-     * pack_integers(), computed in pieces on the threads. @p bits is 1 to
-     * 21 (the packed key has 64 bits).
+     * the keys of deal.II's Utilities::inverse_Hilbert_space_filling_curve()
+     * and pack_integers(), computed by the same transform without branches
+     * on the bits, in pieces on the threads. @p bits is 1 to 21 (the packed
+     * key has 64 bits).
      */
     std::vector<std::uint64_t>
     hilbert_keys(const std::vector<Point<3>> &points, int bits);

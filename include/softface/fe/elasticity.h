@@ -13,12 +13,13 @@
 #include <softface/core/scene.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/material_law.h>
-#include <softface/fe/point_block_pattern.h>
 
 #include <array>
 
 namespace softface
 {
+  class PointBlockPattern;
+
   using namespace dealii;
 
   /**

@@ -35,6 +35,12 @@ namespace softface
      */
     PointBlockPattern(const std::vector<unsigned int> &row_start,
                       const std::vector<unsigned int> &neighbour);
+    PointBlockPattern(std::vector<unsigned int> &&,
+                      std::vector<unsigned int> &&) = delete;
+
+    /// Entries of the pattern (9 per pair of neighbours and per point).
+    std::size_t
+    n_entries() const;
 
     /// The pattern (3 x the points rows, square, compressed).
     void
