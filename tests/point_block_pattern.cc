@@ -26,7 +26,7 @@ namespace
     deallog << name << ": " << scene.triangulation.n_active_cells()
             << " cells, " << scene.dof_handler.n_dofs() << " DoFs" << std::endl;
     const Models::PointMesh points(scene, "test");
-    const PointBlockPattern pattern(points.row_start, points.neighbour);
+    const PointBlockPattern pattern(points);
     SparsityPattern         ours, dealii;
     pattern.make_sparsity(ours);
     ConstrainedSystem::make_sparsity_pattern(scene, dealii);
@@ -66,7 +66,7 @@ namespace
     for (const auto &cell : scene.triangulation.active_cell_iterators())
       {
         const auto dofs = ConstrainedSystem::cell_dofs(scene, cell);
-        pattern.cell_positions(points.tetrahedra[c++], positions.data());
+        pattern.cell_positions(c++, positions.data());
         for (unsigned int r = 0; r < 12; ++r)
           for (unsigned int q = 0; q < 12; ++q)
             misplaced += (positions[12 * r + q] != dealii(dofs[r], dofs[q]));
@@ -78,10 +78,7 @@ namespace
 
     // The stiffness both ways: the same sums in the same order.
     SparseMatrix<double> placed(ours), merged(dealii);
-    Elasticity::assemble_p1_stiffness(scene,
-                                      placed,
-                                      &pattern,
-                                      &points.tetrahedra);
+    Elasticity::assemble_p1_stiffness(scene, placed, &pattern);
     Elasticity::assemble_p1_stiffness(scene, merged);
     double difference = 0., largest = 0.;
     for (unsigned int row = 0; row < dealii.n_rows(); ++row)

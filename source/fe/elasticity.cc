@@ -112,14 +112,10 @@ namespace softface
     }
 
     void
-    assemble_p1_stiffness(
-      const Scene                                    &scene,
-      SparseMatrix<double>                           &stiffness,
-      const PointBlockPattern                        *pattern,
-      const std::vector<std::array<unsigned int, 4>> *points_of_cell)
+    assemble_p1_stiffness(const Scene             &scene,
+                          SparseMatrix<double>    &stiffness,
+                          const PointBlockPattern *pattern)
     {
-      Assert((pattern == nullptr) == (points_of_cell == nullptr),
-             ExcMessage("A pattern needs the cells' points."));
       // Entries go straight into the value array: the matrix must be on
       // the pattern's sparsity.
       AssertThrow(pattern == nullptr ||
@@ -167,7 +163,7 @@ namespace softface
                   end);
                 continue;
               }
-            pattern->cell_positions((*points_of_cell)[c], positions.data());
+            pattern->cell_positions(c, positions.data());
             for (unsigned int r = 0; r < 12; ++r)
               {
                 if (dofs[c][r] < first || dofs[c][r] >= end)

@@ -8,17 +8,12 @@
 
 namespace softface
 {
-  PointBlockPattern::PointBlockPattern(
-    const std::vector<unsigned int> &row_start,
-    const std::vector<unsigned int> &neighbour)
-      : row_start(row_start)
-      , neighbour(neighbour)
+  PointBlockPattern::PointBlockPattern(const Models::PointMesh &points)
+      : points(points)
   {
-    AssertThrow(!row_start.empty() && row_start.back() == neighbour.size(),
-                ExcMessage("PointBlockPattern: row_start does not end at the "
-                           "number of neighbours."));
     // Places are unsigned int, as the nonlinear FEM stores them.
-    AssertThrow(9 * (std::uint64_t(neighbour.size()) + row_start.size()) <=
+    AssertThrow(9 * (std::uint64_t(points.neighbour.size()) +
+                     points.row_start.size()) <=
                   std::numeric_limits<unsigned int>::max(),
                 ExcMessage("PointBlockPattern: the matrix has more entries "
                            "than an unsigned int counts."));
@@ -27,13 +22,15 @@ namespace softface
   std::size_t
   PointBlockPattern::n_entries() const
   {
-    return 9 * (neighbour.size() + row_start.size() - 1);
+    return 9 * (points.neighbour.size() + points.n_points());
   }
 
   void
   PointBlockPattern::make_sparsity(SparsityPattern &sparsity) const
   {
-    const unsigned int        n_points = row_start.size() - 1;
+    const auto               &row_start = points.row_start;
+    const auto               &neighbour = points.neighbour;
+    const unsigned int        n_points  = points.n_points();
     std::vector<unsigned int> row_lengths(3 * n_points);
     for (unsigned int p = 0; p < n_points; ++p)
       for (unsigned int i = 0; i < 3; ++i)
@@ -64,21 +61,12 @@ namespace softface
     sparsity.compress();
   }
 
-  unsigned int
-  PointBlockPattern::blocks_before(const unsigned int p,
-                                   const unsigned int q) const
-  {
-    // A count without a branch per neighbour (see PointMesh::edge_index()).
-    unsigned int before = (p < q);
-    for (unsigned int k = row_start[p]; k < row_start[p + 1]; ++k)
-      before += (neighbour[k] < q);
-    return before;
-  }
-
   void
-  PointBlockPattern::cell_positions(const std::array<unsigned int, 4> &p,
-                                    unsigned int *positions) const
+  PointBlockPattern::cell_positions(const unsigned int cell,
+                                    unsigned int      *positions) const
   {
+    const auto &row_start = points.row_start;
+    const auto &p         = points.tetrahedra[cell];
     for (unsigned int a = 0; a < 4; ++a)
       {
         // Rows of point p[a]: 3 (its neighbours + 1) entries each, after
@@ -91,8 +79,10 @@ namespace softface
         for (unsigned int b = 0; b < 4; ++b)
           {
             const unsigned int w = p[b];
-            // Columns of the row before column 3w (the diagonal counted).
-            const unsigned int before = 3 * blocks_before(v, w);
+            // Columns of the row before column 3w (the diagonal counted):
+            // three per point of the row (its neighbours and v) before w.
+            const unsigned int before =
+              3 * (points.neighbours_before(v, w) + (v < w));
             for (unsigned int i = 0; i < 3; ++i)
               {
                 const unsigned int row         = 3 * v + i;

@@ -98,8 +98,7 @@ namespace softface
         if (!scene->has_vertex_constraints() && scene->dofs_are_point_blocks())
           {
             points  = std::make_unique<PointMesh>(*scene, "linear fem");
-            pattern = std::make_unique<PointBlockPattern>(points->row_start,
-                                                          points->neighbour);
+            pattern = std::make_unique<PointBlockPattern>(*points);
             pattern->make_sparsity(sparsity);
           }
         else
@@ -108,11 +107,7 @@ namespace softface
       {
         const auto timed = phase("assemble");
         stiffness.reinit(sparsity);
-        Elasticity::assemble_p1_stiffness(*scene,
-                                          stiffness,
-                                          pattern.get(),
-                                          points ? &points->tetrahedra :
-                                                   nullptr);
+        Elasticity::assemble_p1_stiffness(*scene, stiffness, pattern.get());
       }
       pattern.reset();
       points.reset();

@@ -98,11 +98,10 @@ namespace softface
       if (!scene->has_vertex_constraints() && scene->dofs_are_point_blocks())
         {
           const PointMesh         points(*scene, model_name);
-          const PointBlockPattern pattern(points.row_start, points.neighbour);
+          const PointBlockPattern pattern(points);
           pattern.make_sparsity(sparsity);
           for (unsigned int c = 0; c < cell_dofs.size(); ++c)
-            pattern.cell_positions(points.tetrahedra[c],
-                                   &cell_entry_positions[144 * c]);
+            pattern.cell_positions(c, &cell_entry_positions[144 * c]);
           return;
         }
       ConstrainedSystem::make_sparsity_pattern(*scene, sparsity);

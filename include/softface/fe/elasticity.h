@@ -82,15 +82,12 @@ namespace softface
 
     /// The unconstrained linear-elastic stiffness of the scene (P1, on the
     /// shared layout; the matrix's sparsity is already set). With
-    /// @p pattern (the matrix is on its sparsity, the scene's cells in the
-    /// points of @p points_of_cell) each entry goes straight to its place;
-    /// otherwise each row is merged into the matrix's.
+    /// @p pattern (the matrix is on its sparsity) each entry goes straight
+    /// to its place; otherwise each row is merged into the matrix's.
     void
-    assemble_p1_stiffness(
-      const Scene                                    &scene,
-      SparseMatrix<double>                           &stiffness,
-      const PointBlockPattern                        *pattern        = nullptr,
-      const std::vector<std::array<unsigned int, 4>> *points_of_cell = nullptr);
+    assemble_p1_stiffness(const Scene             &scene,
+                          SparseMatrix<double>    &stiffness,
+                          const PointBlockPattern *pattern = nullptr);
 
     /**
      * The nodal loads of a body force given per unit volume in each cell

@@ -3,6 +3,8 @@
 
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <softface/models/point_mesh.h>
+
 #include <array>
 #include <vector>
 
@@ -28,15 +30,9 @@ namespace softface
   class PointBlockPattern
   {
   public:
-    /**
-     * @p row_start and @p neighbour: the neighbours of point p, ascending,
-     * are neighbour[row_start[p] .. row_start[p + 1]) (Models::PointMesh).
-     * Both are referred to, not copied.
-     */
-    PointBlockPattern(const std::vector<unsigned int> &row_start,
-                      const std::vector<unsigned int> &neighbour);
-    PointBlockPattern(std::vector<unsigned int> &&,
-                      std::vector<unsigned int> &&) = delete;
+    /// On the points and neighbours of @p points (referred to, not copied).
+    explicit PointBlockPattern(const Models::PointMesh &points);
+    PointBlockPattern(Models::PointMesh &&) = delete;
 
     /// Entries of the pattern (9 per pair of neighbours and per point).
     std::size_t
@@ -47,21 +43,16 @@ namespace softface
     make_sparsity(SparsityPattern &sparsity) const;
 
     /**
-     * Where the entries coupling the points @p p of a tetrahedron live in
-     * the value array of a SparseMatrix on make_sparsity()'s pattern: entry
-     * (3 p[a] + i, 3 p[b] + j) at @p positions[12 (3a + i) + 3b + j].
+     * Where the entries of cell @p cell (the mesh's cells in order, whose
+     * points p are PointMesh::tetrahedra[cell]) live in the value array of
+     * a SparseMatrix on make_sparsity()'s pattern: entry (3 p[a] + i,
+     * 3 p[b] + j) at @p positions[12 (3a + i) + 3b + j].
      */
     void
-    cell_positions(const std::array<unsigned int, 4> &p,
-                   unsigned int                      *positions) const;
+    cell_positions(const unsigned int cell, unsigned int *positions) const;
 
   private:
-    const std::vector<unsigned int> &row_start;
-    const std::vector<unsigned int> &neighbour;
-
-    /// The points of p's row (its neighbours and p) before point q.
-    unsigned int
-    blocks_before(const unsigned int p, const unsigned int q) const;
+    const Models::PointMesh &points;
   };
 } // namespace softface
 

@@ -32,6 +32,10 @@ namespace softface
       unsigned int
       edge_index(const unsigned int j, const unsigned int k) const;
 
+      /// The neighbours of point j before point k (any k).
+      unsigned int
+      neighbours_before(const unsigned int j, const unsigned int k) const;
+
       /// The points of every tetrahedron, in the order of the mesh's cells.
       std::vector<std::array<unsigned int, 4>> tetrahedra;
       /// Reference positions.
