@@ -3,7 +3,6 @@
 
 #include <softface/fe/point_block_pattern.h>
 
-#include <cstdint>
 #include <limits>
 
 namespace softface
@@ -12,9 +11,7 @@ namespace softface
       : points(points)
   {
     // Places are unsigned int, as the nonlinear FEM stores them.
-    AssertThrow(9 * (std::uint64_t(points.neighbour.size()) +
-                     points.row_start.size()) <=
-                  std::numeric_limits<unsigned int>::max(),
+    AssertThrow(n_entries() <= std::numeric_limits<unsigned int>::max(),
                 ExcMessage("PointBlockPattern: the matrix has more entries "
                            "than an unsigned int counts."));
   }
