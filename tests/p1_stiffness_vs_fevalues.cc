@@ -26,8 +26,8 @@ SOFTFACE_TEST(p1_stiffness_vs_fevalues)
 
   SparsityPattern sparsity;
   ConstrainedSystem::make_sparsity_pattern(scene, sparsity);
-  SparseMatrix<double> closed_form(sparsity), integrated(sparsity);
-  Elasticity::assemble_p1_stiffness(scene, closed_form);
+  SparseMatrix<double> closed_form, integrated(sparsity);
+  Elasticity::assemble_p1_stiffness(scene, sparsity, closed_form);
 
   const QGaussSimplex<3>               quadrature(2);
   FEValues<3>                          fe_values(scene.mapping,

@@ -77,9 +77,9 @@ namespace
                                 0);
 
     // The stiffness both ways: the same sums in the same order.
-    SparseMatrix<double> placed(ours), merged(dealii);
-    Elasticity::assemble_p1_stiffness(scene, placed, &pattern);
-    Elasticity::assemble_p1_stiffness(scene, merged);
+    SparseMatrix<double> placed, merged;
+    Elasticity::assemble_p1_stiffness(scene, ours, placed, &pattern);
+    Elasticity::assemble_p1_stiffness(scene, dealii, merged);
     double difference = 0., largest = 0.;
     for (unsigned int row = 0; row < dealii.n_rows(); ++row)
       for (auto entry = merged.begin(row); entry != merged.end(row); ++entry)

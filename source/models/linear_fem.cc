@@ -106,8 +106,10 @@ namespace softface
       }
       {
         const auto timed = phase("assemble");
-        stiffness.reinit(sparsity);
-        Elasticity::assemble_p1_stiffness(*scene, stiffness, pattern.get());
+        Elasticity::assemble_p1_stiffness(*scene,
+                                          sparsity,
+                                          stiffness,
+                                          pattern.get());
       }
       pattern.reset();
       points.reset();

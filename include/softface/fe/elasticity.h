@@ -8,6 +8,7 @@
 #include <deal.II/fe/mapping.h>
 #include <deal.II/lac/full_matrix.h>
 #include <deal.II/lac/sparse_matrix.h>
+#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/scene.h>
@@ -81,11 +82,12 @@ namespace softface
                 P1Response                        &response);
 
     /// The unconstrained linear-elastic stiffness of the scene (P1, on the
-    /// shared layout; the matrix's sparsity is already set). With
-    /// @p pattern (the matrix is on its sparsity) each entry goes straight
+    /// shared layout), in @p stiffness made anew on @p sparsity. With
+    /// @p pattern (@p sparsity is its sparsity) each entry goes straight
     /// to its place; otherwise each row is merged into the matrix's.
     void
     assemble_p1_stiffness(const Scene             &scene,
+                          const SparsityPattern   &sparsity,
                           SparseMatrix<double>    &stiffness,
                           const PointBlockPattern *pattern = nullptr);
 
