@@ -4,10 +4,12 @@
 // this reader checks everything before the mesh is built.
 
 #include <softface/io/gmsh_reader.h>
+#include <softface/io/mesh_data.h>
 #include <softface/io/text_tokens.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <map>
 #include <unordered_map>
@@ -202,7 +204,11 @@ namespace softface
         {
           Point<3> x;
           for (unsigned int d = 0; d < 3; ++d)
-            x[d] = in.real("a node coordinate");
+            {
+              x[d] = in.real("a node coordinate");
+              if (std::abs(x[d]) > MeshData::largest_coordinate)
+                in.fail("a node coordinate is " + far_coordinate(x[d]));
+            }
           return x;
         }
 

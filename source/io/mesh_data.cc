@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iomanip>
 #include <memory>
 #include <sstream>
 #include <tuple>
@@ -68,6 +69,16 @@ namespace softface
       };
     } // namespace
 
+    std::string
+    far_coordinate(const double x)
+    {
+      std::ostringstream s;
+      s << std::setprecision(3) << x << " mm, farther from the origin than "
+        << MeshData::largest_coordinate
+        << " mm (1000 km); softface reads coordinates in millimetres";
+      return s.str();
+    }
+
     CellNamer
     build_triangulation(MeshData          &data,
                         const std::string &filename,
@@ -85,6 +96,9 @@ namespace softface
           if (!std::isfinite(data.vertices[v][d]))
             fail("point " + std::to_string(v) +
                  " has a coordinate that is not finite");
+          else if (std::abs(data.vertices[v][d]) > MeshData::largest_coordinate)
+            fail("point " + std::to_string(v) + " has the coordinate " +
+                 far_coordinate(data.vertices[v][d]));
 
       // The element's name is only made for a message (not per cell).
       const auto check_indices = [&](const std::vector<unsigned int> &vs,
