@@ -138,6 +138,10 @@ namespace softface
                                            ranks_dofs_per_cell);
             ranks_cell_dofs   = {};
             ranks_serial_dofs = {};
+            // The tangent keeps its own rows' points for ML; the layout's
+            // whole (28 bytes per DoF on every rank) are not read again.
+            dof_points    = {};
+            dof_component = {};
           }
           // ML on the tangent at rest, as on one rank.
           const auto     timed = phase("preconditioner");

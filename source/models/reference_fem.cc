@@ -13,12 +13,24 @@
 #include <softface/fe/elasticity.h>
 #include <softface/models/reference_fem.h>
 
+#include <array>
 #include <set>
 
 namespace softface
 {
   namespace Models
   {
+    namespace
+    {
+      // The weights of a tetrahedron's four vertices at the point xi of the
+      // unit cell (its barycentric coordinates).
+      std::array<double, 4>
+      vertex_weights(const Point<3> &xi)
+      {
+        return {{1. - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]}};
+      }
+    } // namespace
+
     ReferenceFEM::ReferenceFEM()
         : NonlinearElasticity("reference fem")
     {}
@@ -69,7 +81,6 @@ namespace softface
       const auto        &unit_points = fe->get_unit_support_points();
       const unsigned int n_cell      = fe->n_dofs_per_cell();
       is_join.assign(n, false);
-      from_vertex_dofs.resize(n);
       at_vertex_dof.assign(scene->dof_handler.n_dofs(),
                            numbers::invalid_dof_index);
       dof_points.resize(n);
@@ -85,14 +96,12 @@ namespace softface
             {
               const unsigned int c  = fe->system_to_component_index(i).first;
               const Point<3>    &xi = unit_points[i];
-              const std::array<double, 4> weight = {
-                {1. - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]}};
-              Point<3> x;
+              const std::array<double, 4> weight = vertex_weights(xi);
+              Point<3>                    x;
               for (unsigned int a = 0; a < 4; ++a)
                 {
                   const auto vertex_dof =
                     scene->vertex_dofs()[cell->vertex_index(a)][c];
-                  from_vertex_dofs[dofs[i]][a] = {vertex_dof, weight[a]};
                   x += weight[a] * cell->vertex(a);
                   if (weight[a] == 1.)
                     {
@@ -318,11 +327,30 @@ namespace softface
     ReferenceFEM::join_motion(const Vector<double> &prescribed,
                               Vector<double>       &motion) const
     {
+      // A join DoF's value is the linear interpolation of its cell's vertex
+      // values (the rigid motion is affine), found cell by cell: kept per
+      // DoF it took 64 bytes of every DoF on every rank.
       motion.reinit(is_join.size());
-      for (unsigned int i = 0; i < is_join.size(); ++i)
-        if (is_join[i])
-          for (const auto &[vertex_dof, weight] : from_vertex_dofs[i])
-            motion[i] += weight * prescribed[vertex_dof];
+      const auto        &unit_points = fe->get_unit_support_points();
+      const unsigned int n_cell      = fe->n_dofs_per_cell();
+      std::vector<types::global_dof_index> dofs(n_cell);
+      for (const auto &cell : dof_handler->active_cell_iterators())
+        {
+          cell->get_dof_indices(dofs);
+          for (unsigned int i = 0; i < n_cell; ++i)
+            if (is_join[dofs[i]])
+              {
+                const unsigned int c  = fe->system_to_component_index(i).first;
+                const Point<3>    &xi = unit_points[i];
+                const std::array<double, 4> weight = vertex_weights(xi);
+                double                      value  = 0.;
+                for (unsigned int a = 0; a < 4; ++a)
+                  value +=
+                    weight[a] *
+                    prescribed[scene->vertex_dofs()[cell->vertex_index(a)][c]];
+                motion[dofs[i]] = value;
+              }
+        }
     }
 
     void

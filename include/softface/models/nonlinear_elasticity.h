@@ -78,7 +78,8 @@ namespace softface
       /**
        * Build the layout: fill is_join and sparsity, and, for a layout other
        * than the scene's, dof_points and dof_component (ML's rigid-body
-       * modes).
+       * modes; on several MPI ranks do_setup() frees them once the
+       * distributed tangent holds its own rows' points).
        */
       virtual void
       setup_layout() = 0;

@@ -77,10 +77,6 @@ namespace softface
 
       std::unique_ptr<FESystem<3>>   fe;
       std::unique_ptr<DoFHandler<3>> dof_handler;
-      /// Each DoF's value as a combination of its cell's vertex DoFs on the
-      /// shared layout (for the prescribed motion).
-      std::vector<std::array<std::pair<types::global_dof_index, double>, 4>>
-        from_vertex_dofs;
       /// The DoF at each vertex DoF of the shared layout.
       std::vector<types::global_dof_index> at_vertex_dof;
       Vector<double>                       solution;
