@@ -23,13 +23,25 @@ namespace softface
 {
   namespace Mesh
   {
+    std::string
+    far_coordinate(const double x)
+    {
+      // Enough digits that a coordinate just past the limit does not print
+      // as the limit.
+      std::ostringstream s;
+      s << std::setprecision(12) << x << " mm, larger in magnitude than "
+        << number_text(largest_coordinate)
+        << " mm (1000 km); softface reads coordinates in millimetres";
+      return s.str();
+    }
+
     void
     CubeParameters::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Cube");
       prm.declare_entry("Edge length",
                         "80",
-                        Patterns::Double(0.),
+                        Patterns::Double(0., largest_coordinate),
                         "Edge length of the cube [0, L]^3 in mm.");
       prm.declare_entry("Inner region size",
                         "10",

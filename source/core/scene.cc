@@ -81,7 +81,8 @@ namespace softface
       "(ASCII; cell data MaterialID), or VTK "
       "XML .vtu (ascii, binary or appended raw, zlib or not; cell "
       "data MaterialID, material_id or gmsh:physical). Relative "
-      "to the parameter file's folder.");
+      "to the parameter file's folder. Coordinates are millimetres, "
+      "at most 1e9 in magnitude.");
     prm.declare_entry("Bone segments",
                       "fixed, bone",
                       Patterns::List(Patterns::Anything()),

@@ -117,12 +117,11 @@ namespace softface
                           SparseMatrix<double>    &stiffness,
                           const PointBlockPattern *pattern)
     {
-      // Entries go straight into the value array: the matrix must be on
-      // the pattern's sparsity.
+      // Entries go straight into the value array: the sparsity must be the
+      // pattern's.
       AssertThrow(pattern == nullptr ||
                     sparsity.n_nonzero_elements() == pattern->n_entries(),
-                  ExcMessage("The stiffness is not on the PointBlockPattern's "
-                             "sparsity."));
+                  ExcMessage("The sparsity is not the PointBlockPattern's."));
       // One tangent per tissue (one without heterogeneous tissue).
       std::vector<Tensor<4, 3>> A;
       for (unsigned int t = 0; t < scene.n_tissues(); ++t)

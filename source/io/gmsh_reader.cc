@@ -4,7 +4,6 @@
 // this reader checks everything before the mesh is built.
 
 #include <softface/io/gmsh_reader.h>
-#include <softface/io/mesh_data.h>
 #include <softface/io/text_tokens.h>
 
 #include <algorithm>
@@ -206,7 +205,7 @@ namespace softface
           for (unsigned int d = 0; d < 3; ++d)
             {
               x[d] = in.real("a node coordinate");
-              if (std::abs(x[d]) > MeshData::largest_coordinate)
+              if (std::abs(x[d]) > largest_coordinate)
                 in.fail("a node coordinate is " + far_coordinate(x[d]));
             }
           return x;

@@ -12,7 +12,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <iomanip>
 #include <memory>
 #include <sstream>
 #include <tuple>
@@ -69,16 +68,6 @@ namespace softface
       };
     } // namespace
 
-    std::string
-    far_coordinate(const double x)
-    {
-      std::ostringstream s;
-      s << std::setprecision(3) << x << " mm, farther from the origin than "
-        << MeshData::largest_coordinate
-        << " mm (1000 km); softface reads coordinates in millimetres";
-      return s.str();
-    }
-
     CellNamer
     build_triangulation(MeshData          &data,
                         const std::string &filename,
@@ -96,7 +85,7 @@ namespace softface
           if (!std::isfinite(data.vertices[v][d]))
             fail("point " + std::to_string(v) +
                  " has a coordinate that is not finite");
-          else if (std::abs(data.vertices[v][d]) > MeshData::largest_coordinate)
+          else if (std::abs(data.vertices[v][d]) > largest_coordinate)
             fail("point " + std::to_string(v) + " has the coordinate " +
                  far_coordinate(data.vertices[v][d]));
 

@@ -106,7 +106,11 @@ namespace softface
           data.vertices.resize(n);
           for (auto &x : data.vertices)
             for (unsigned int d = 0; d < 3; ++d)
-              x[d] = in.real("a point coordinate");
+              {
+                x[d] = in.real("a point coordinate");
+                if (std::abs(x[d]) > largest_coordinate)
+                  in.fail("a point coordinate is " + far_coordinate(x[d]));
+              }
           have_points = true;
         }
 

@@ -575,6 +575,10 @@ namespace softface
               if (!std::isfinite(xyz[3 * i + d]))
                 throw Error("point " + std::to_string(i) + " has coordinate " +
                             number_text(xyz[3 * i + d]));
+              else if (std::abs(xyz[3 * i + d]) > largest_coordinate)
+                throw Error("point " + std::to_string(i) +
+                            " has the coordinate " +
+                            far_coordinate(xyz[3 * i + d]));
             points[i] = Point<3>(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
           }
         return points;

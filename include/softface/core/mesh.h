@@ -20,6 +20,16 @@ namespace softface
    */
   namespace Mesh
   {
+    /// The largest magnitude a point's coordinate may have, in millimetres
+    /// (1000 km): beyond any anatomy in millimetres, and a tetrahedron's
+    /// volume (three differences multiplied) overflows past about 1e102.
+    constexpr double largest_coordinate = 1e9;
+
+    /// "1e+305 mm, larger in magnitude than ..." for a message that refuses
+    /// the coordinate @p x (farther than largest_coordinate).
+    std::string
+    far_coordinate(const double x);
+
     /// Material and boundary ids the generated cube carries.
     constexpr types::material_id cube_tissue_id  = 1;
     constexpr types::material_id cube_inner_id   = 2;

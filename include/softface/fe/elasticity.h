@@ -82,9 +82,11 @@ namespace softface
                 P1Response                        &response);
 
     /// The unconstrained linear-elastic stiffness of the scene (P1, on the
-    /// shared layout), in @p stiffness made anew on @p sparsity. With
-    /// @p pattern (@p sparsity is its sparsity) each entry goes straight
-    /// to its place; otherwise each row is merged into the matrix's.
+    /// shared layout) in @p stiffness, which this reinitialises on
+    /// @p sparsity (and which then refers to it: @p sparsity must outlive
+    /// it). With @p pattern (@p sparsity is its sparsity) each entry goes
+    /// straight to its place; otherwise each row is merged into the
+    /// matrix's.
     void
     assemble_p1_stiffness(const Scene             &scene,
                           const SparsityPattern   &sparsity,

@@ -54,17 +54,7 @@ namespace softface
       /// "element 17 (line 204)", or "cell 17" without a line.
       std::string
       name(const Origin &origin) const;
-
-      /// The largest coordinate a point may have, in millimetres (1000 km).
-      /// Farther is no anatomy in millimetres, and past about 1e102 a
-      /// tetrahedron's volume (three differences multiplied) overflows.
-      static constexpr double largest_coordinate = 1e9;
     };
-
-    /// "1e+305 mm, farther from the origin than ..." for a message that
-    /// refuses the coordinate @p x (past MeshData::largest_coordinate).
-    std::string
-    far_coordinate(const double x);
 
     /**
      * Check @p data as deal.II's debug-only assertions would, and more, then
@@ -73,8 +63,8 @@ namespace softface
      * tetrahedra on the same four vertices, a triangle that three or more
      * tetrahedra share, a boundary triangle that is no face of any
      * tetrahedron, two boundary triangles on the same face with different
-     * ids, coordinates that are not finite or farther from the origin than
-     * MeshData::largest_coordinate, an empty mesh. A boundary triangle on an
+     * ids, coordinates that are not finite or larger in magnitude than
+     * Mesh::largest_coordinate, an empty mesh. A boundary triangle on an
      * interior face carries no boundary and is dropped (as a surface gmsh
      * embeds between two volumes). Unused points are removed. The cells are
      * put in Hilbert order (order_for_locality()); the result names each
