@@ -14,6 +14,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <softface/core/error.h>
+#include <softface/core/release.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/distributed_elasticity.h>
 #include <softface/fe/elasticity.h>
@@ -108,7 +109,7 @@ namespace softface
       std::vector<types::global_dof_index>             cell_dofs;
       layout->cells_at_owned_dofs(cells, cell_dofs);
       stiffness->set_cells(cell_dofs, 12);
-      cell_dofs = {};
+      release(cell_dofs);
 
       const auto                           A = tangents(scene);
       FullMatrix<double>                   cell_matrix(12, 12);

@@ -4,6 +4,7 @@
 #include <deal.II/lac/exceptions.h>
 #include <deal.II/lac/trilinos_index_access.h>
 
+#include <softface/core/release.h>
 #include <softface/fe/owned_rows_matrix.h>
 
 #include <Epetra_CrsGraph.h>
@@ -144,10 +145,10 @@ namespace softface
       error = graph.OptimizeStorage();
       AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
     }
-    cells_of_row       = {};
-    cells_of_row_start = {};
-    mark               = {};
-    row_length         = {};
+    release(cells_of_row);
+    release(cells_of_row_start);
+    release(mark);
+    release(row_length);
     {
       const Epetra_CrsMatrix shape(Copy, graph);
       trilinos_matrix.reinit(shape, /*copy_values=*/false);
@@ -205,8 +206,8 @@ namespace softface
               walk_row(c, i, [&](const int k, const unsigned int q) {
                 cell_entry[n * (n * c + i) + q] = k;
               });
-        cell_column = {};
-        cell_order  = {};
+        release(cell_column);
+        release(cell_order);
       }
   }
 

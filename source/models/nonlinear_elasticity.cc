@@ -4,6 +4,7 @@
 // reference_fem.cc (quadrature, quadratic tetrahedra).
 
 #include <softface/core/error.h>
+#include <softface/core/release.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/models/nonlinear_elasticity.h>
 
@@ -136,12 +137,12 @@ namespace softface
               solver_parameters);
             distributed_tangent->set_cells(ranks_cell_dofs,
                                            ranks_dofs_per_cell);
-            ranks_cell_dofs   = {};
-            ranks_serial_dofs = {};
+            release(ranks_cell_dofs);
+            release(ranks_serial_dofs);
             // The tangent keeps its own rows' points for ML; the layout's
             // whole (28 bytes per DoF on every rank) are not read again.
-            dof_points    = {};
-            dof_component = {};
+            release(dof_points);
+            release(dof_component);
           }
           // ML on the tangent at rest, as on one rank.
           const auto     timed = phase("preconditioner");

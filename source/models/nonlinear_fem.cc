@@ -2,6 +2,7 @@
 // layout: its discretisation (cell geometry, closed-form forces and tangent
 // added straight into the matrix); the Newton solve is NonlinearElasticity's.
 
+#include <softface/core/release.h>
 #include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
@@ -68,10 +69,10 @@ namespace softface
       if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
           why_not_on_ranks().empty())
         {
-          const auto timed     = phase("partition");
-          ranks_layout         = &distributed_layout(*scene);
-          cell_entry_positions = {};
-          ranks_dof_handler    = &ranks_layout->dof_handler;
+          const auto timed = phase("partition");
+          ranks_layout     = &distributed_layout(*scene);
+          release(cell_entry_positions);
+          ranks_dof_handler = &ranks_layout->dof_handler;
           ranks_serial_dofs.clear();
           for (const auto dof : ranks_layout->locally_relevant_dofs)
             ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
