@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <limits>
 #include <map>
 #include <unordered_map>
@@ -203,11 +202,7 @@ namespace softface
         {
           Point<3> x;
           for (unsigned int d = 0; d < 3; ++d)
-            {
-              x[d] = in.real("a node coordinate");
-              if (std::abs(x[d]) > largest_coordinate)
-                in.fail("a node coordinate is " + far_coordinate(x[d]));
-            }
+            x[d] = in.coordinate("a node coordinate");
           return x;
         }
 

@@ -68,6 +68,20 @@ namespace softface
       };
     } // namespace
 
+    void
+    check_points(const std::vector<Point<3>>                    &points,
+                 const std::function<void(const std::string &)> &fail)
+    {
+      for (std::size_t v = 0; v < points.size(); ++v)
+        for (unsigned int d = 0; d < 3; ++d)
+          if (!std::isfinite(points[v][d]))
+            fail("point " + std::to_string(v) +
+                 " has a coordinate that is not finite");
+          else if (std::abs(points[v][d]) > largest_coordinate)
+            fail("point " + std::to_string(v) + " has the coordinate " +
+                 far_coordinate(points[v][d]));
+    }
+
     CellNamer
     build_triangulation(MeshData          &data,
                         const std::string &filename,
@@ -80,14 +94,7 @@ namespace softface
       if (data.cells.empty())
         fail("it holds no tetrahedra");
       const std::size_t n_vertices = data.vertices.size();
-      for (std::size_t v = 0; v < n_vertices; ++v)
-        for (unsigned int d = 0; d < 3; ++d)
-          if (!std::isfinite(data.vertices[v][d]))
-            fail("point " + std::to_string(v) +
-                 " has a coordinate that is not finite");
-          else if (std::abs(data.vertices[v][d]) > largest_coordinate)
-            fail("point " + std::to_string(v) + " has the coordinate " +
-                 far_coordinate(data.vertices[v][d]));
+      check_points(data.vertices, fail);
 
       // The element's name is only made for a message (not per cell).
       const auto check_indices = [&](const std::vector<unsigned int> &vs,

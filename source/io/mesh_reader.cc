@@ -6,9 +6,8 @@
 
 #include <softface/core/error.h>
 #include <softface/io/gmsh_reader.h>
+#include <softface/io/mesh_data.h>
 #include <softface/io/mesh_reader.h>
-
-#include <cmath>
 #include <softface/io/vtk_reader.h>
 #include <softface/io/vtu_reader.h>
 
@@ -66,18 +65,11 @@ namespace softface
                   std::istringstream again(head.str());
                   grid_in.read_vtu(again);
                   // The checks of softface's readers on what deal.II read.
-                  const auto &points = triangulation.get_vertices();
-                  for (std::size_t v = 0; v < points.size(); ++v)
-                    for (unsigned int d = 0; d < 3; ++d)
-                      if (!std::isfinite(points[v][d]))
-                        throw Error("Cannot read mesh file '" + filename +
-                                    "': point " + std::to_string(v) +
-                                    " has a coordinate that is not finite.");
-                      else if (std::abs(points[v][d]) > largest_coordinate)
-                        throw Error("Cannot read mesh file '" + filename +
-                                    "': point " + std::to_string(v) +
-                                    " has the coordinate " +
-                                    far_coordinate(points[v][d]) + ".");
+                  check_points(triangulation.get_vertices(),
+                               [&](const std::string &message) {
+                                 throw Error("Cannot read mesh file '" +
+                                             filename + "': " + message + ".");
+                               });
                 }
               else
                 cell_name = read_vtu(filename, triangulation);

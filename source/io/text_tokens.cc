@@ -3,6 +3,7 @@
 // used by io/gmsh_reader.cc and io/vtk_reader.cc.
 
 #include <softface/core/error.h>
+#include <softface/core/mesh.h>
 #include <softface/io/text_tokens.h>
 
 #include <algorithm>
@@ -106,6 +107,15 @@ namespace softface
         fail(std::string(what) + " is " + std::string(w) +
              ", not a finite number");
       return value;
+    }
+
+    double
+    TextTokens::coordinate(const std::string_view what)
+    {
+      const double x = real(what);
+      if (std::abs(x) > Mesh::largest_coordinate)
+        fail(std::string(what) + " is " + Mesh::far_coordinate(x));
+      return x;
     }
 
     void

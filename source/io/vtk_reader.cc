@@ -106,11 +106,7 @@ namespace softface
           data.vertices.resize(n);
           for (auto &x : data.vertices)
             for (unsigned int d = 0; d < 3; ++d)
-              {
-                x[d] = in.real("a point coordinate");
-                if (std::abs(x[d]) > largest_coordinate)
-                  in.fail("a point coordinate is " + far_coordinate(x[d]));
-              }
+              x[d] = in.coordinate("a point coordinate");
           have_points = true;
         }
 

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,14 @@ namespace softface
       std::string
       name(const Origin &origin) const;
     };
+
+    /**
+     * Refuse, through @p fail, a point of @p points with a coordinate that is
+     * not finite or is larger in magnitude than Mesh::largest_coordinate.
+     */
+    void
+    check_points(const std::vector<Point<3>>                    &points,
+                 const std::function<void(const std::string &)> &fail);
 
     /**
      * Check @p data as deal.II's debug-only assertions would, and more, then

@@ -43,6 +43,11 @@ namespace softface
       double
       real(std::string_view what);
 
+      /// The next word as a point's coordinate: a real number no larger in
+      /// magnitude than Mesh::largest_coordinate.
+      double
+      coordinate(std::string_view what);
+
       /// The next word must be @p expected.
       void
       expect(const std::string &expected);
