@@ -7,9 +7,10 @@
 // Checked with the join DoFs' couplings kept (a Newton tangent), after a
 // second assembly (zeroing must leave nothing behind), after the join DoFs
 // are eliminated, and with the couplings dropped (the linear FEM
-// stiffness). Each cell is also given with its DoFs twice (24 DoFs, all
-// sums four times as large): such cells are added by walking the rows, a
-// tetrahedron's at places found once.
+// stiffness). The cells' DoFs as the layout gives them (point blocks: the
+// places are found point by point); with the components first (a
+// tetrahedron that is no point blocks: places found per entry); and twice
+// (24 DoFs, all sums four times as large: added by walking the rows).
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
@@ -166,26 +167,33 @@ namespace
     for (const auto &cell : cells)
       serial_cell.push_back(layout.serial_cell(cell)->active_cell_index());
 
-    for (const unsigned int copies : {1, 2})
+    for (const std::string order : {"", "components first, ", "twice, "})
       for (const auto couplings : {JoinCouplings::kept, JoinCouplings::dropped})
         {
-          const unsigned int n = 12 * copies;
+          const unsigned int copies = order == "twice, " ? 2 : 1;
+          const unsigned int n      = 12 * copies;
           const std::string  what =
-            std::string(copies == 1 ? "  " : "  twice, ") +
+            "  " + order +
             (couplings == JoinCouplings::kept ? "join couplings kept" :
                                                 "join couplings dropped");
           std::vector<types::global_dof_index> dofs;
           for (unsigned int k = 0; k < serial_cell.size(); ++k)
             for (unsigned int copy = 0; copy < copies; ++copy)
-              dofs.insert(dofs.end(),
-                          cell_dofs.begin() + 12 * k,
-                          cell_dofs.begin() + 12 * (k + 1));
+              for (unsigned int q = 0; q < 12; ++q)
+                // Vertex by vertex, or component by component.
+                dofs.push_back(
+                  cell_dofs[12 * k + (order == "components first, " ?
+                                        3 * (q % 4) + q / 4 :
+                                        q)]);
           OwnedRowsMatrix rows(layout.locally_owned_dofs,
                                layout.locally_relevant_dofs,
                                relevant_is_join,
                                couplings,
                                MPI_COMM_WORLD);
           rows.set_cells(dofs, n);
+          check_equal(what + ", places found point by point",
+                      rows.by_point_blocks(),
+                      order.empty());
           // Twice: the second assembly starts from zero.
           for (unsigned int assembly = 0; assembly < 2; ++assembly)
             {

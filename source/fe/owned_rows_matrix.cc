@@ -39,7 +39,10 @@ namespace softface
   {
     using GlobalIndex = TrilinosWrappers::types::int_type;
     AssertThrow(n > 0 && n <= 255, ExcNotImplemented());
-    dofs_per_cell                    = n;
+    dofs_per_cell = n;
+    point_blocks  = n == 12 && set_point_block_cells(cell_dofs);
+    if (point_blocks)
+      return;
     const std::size_t  n_cells       = cell_dofs.size() / n;
     const unsigned int n_rows        = owned.n_elements();
     const unsigned int n_relevant    = relevant.n_elements();
@@ -209,6 +212,244 @@ namespace softface
         release(cell_column);
         release(cell_order);
       }
+  }
+
+  bool
+  OwnedRowsMatrix::set_point_block_cells(
+    const std::vector<types::global_dof_index> &cell_dofs)
+  {
+    using GlobalIndex               = TrilinosWrappers::types::int_type;
+    constexpr unsigned int invalid  = numbers::invalid_unsigned_int;
+    const auto             no_index = numbers::invalid_dof_index;
+    const std::size_t      n_cells  = cell_dofs.size() / 12;
+
+    // Each cell's points as point blocks among the relevant DoFs (k: DoFs
+    // 3k, 3k+1, 3k+2 of relevant) and among the owned rows (or invalid).
+    // Any cell that is not such sends every rank the general way.
+    std::vector<unsigned int> cell_block(4 * n_cells);
+    std::vector<unsigned int> cell_row_block(4 * n_cells);
+    bool                      blocks = relevant.n_elements() % 3 == 0 &&
+                  owned.n_elements() % 3 == 0 &&
+                  relevant.n_elements() / 3 < invalid;
+    for (std::size_t v = 0; v < 4 * n_cells && blocks; ++v)
+      {
+        const types::global_dof_index *dofs = &cell_dofs[3 * v];
+        const auto                     k = relevant.index_within_set(dofs[0]);
+        const auto                     o = owned.index_within_set(dofs[0]);
+        blocks = dofs[0] % 3 == 0 && dofs[1] == dofs[0] + 1 &&
+                 dofs[2] == dofs[0] + 2 && k != no_index && k % 3 == 0 &&
+                 relevant.index_within_set(dofs[2]) == k + 2 &&
+                 (o == no_index ?
+                    !owned.is_element(dofs[2]) :
+                    o % 3 == 0 && owned.index_within_set(dofs[2]) == o + 2);
+        cell_block[v]     = k / 3;
+        cell_row_block[v] = o == no_index ? invalid : o / 3;
+      }
+    if (Utilities::MPI::min(blocks ? 1 : 0, communicator) == 0)
+      return false;
+
+    const unsigned int n_rows       = owned.n_elements();
+    const unsigned int n_row_blocks = n_rows / 3;
+    const unsigned int n_blocks     = relevant.n_elements() / 3;
+    const bool         drop         = join_couplings == JoinCouplings::dropped;
+    cell_row.assign(12 * n_cells, -1);
+    std::vector<unsigned int> cells_of_block_start(n_row_blocks + 1, 0);
+    for (std::size_t v = 0; v < 4 * n_cells; ++v)
+      if (cell_row_block[v] != invalid)
+        {
+          ++cells_of_block_start[cell_row_block[v] + 1];
+          for (unsigned int i = 0; i < 3; ++i)
+            cell_row[3 * v + i] = 3 * cell_row_block[v] + i;
+        }
+    for (unsigned int b = 0; b < n_row_blocks; ++b)
+      cells_of_block_start[b + 1] += cells_of_block_start[b];
+    // The cells at each owned point, as (cell, its vertex there).
+    std::vector<std::uint64_t> cells_of_block(cells_of_block_start.back());
+    {
+      auto next = cells_of_block_start;
+      for (std::size_t v = 0; v < 4 * n_cells; ++v)
+        if (cell_row_block[v] != invalid)
+          cells_of_block[next[cell_row_block[v]]++] = v;
+    }
+    release(cell_row_block);
+
+    row_is_join.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      row_is_join[r] =
+        relevant_is_join[relevant.index_within_set(owned.nth_index_in_set(r))];
+    const auto dropped_row = [&](const unsigned int r) {
+      return drop && row_is_join[r];
+    };
+    const auto dropped_column = [&](const unsigned int k) {
+      return drop && bool(relevant_is_join[k]);
+    };
+
+    // The points of owned point b's cells, once each (b among them).
+    std::vector<unsigned int> mark(n_blocks, invalid);
+    std::vector<unsigned int> neighbours;
+    const auto                find_neighbours = [&](const unsigned int b) {
+      neighbours.clear();
+      for (unsigned int c = cells_of_block_start[b];
+           c < cells_of_block_start[b + 1];
+           ++c)
+        for (unsigned int a = 0; a < 4; ++a)
+          {
+            const unsigned int k = cell_block[cells_of_block[c] / 4 * 4 + a];
+            if (mark[k] != b)
+              {
+                mark[k] = b;
+                neighbours.push_back(k);
+              }
+          }
+    };
+
+    // First pass: each row's length, and which relevant DoFs are columns.
+    std::vector<char> is_column(3 * n_blocks, 0);
+    std::vector<int>  row_length(n_rows, 0);
+    for (unsigned int b = 0; b < n_row_blocks; ++b)
+      {
+        find_neighbours(b);
+        unsigned int free_length = 0;
+        for (const unsigned int k : neighbours)
+          for (unsigned int j = 0; j < 3; ++j)
+            if (!dropped_column(3 * k + j))
+              {
+                ++free_length;
+                // A column of the point's rows that keep columns.
+                for (unsigned int i = 0; i < 3; ++i)
+                  if (!dropped_row(3 * b + i))
+                    is_column[3 * k + j] = 1;
+              }
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const unsigned int r = 3 * b + i;
+            row_length[r]        = dropped_row(r) ? 1 : free_length;
+            if (dropped_row(r))
+              is_column[relevant.index_within_set(owned.nth_index_in_set(r))] =
+                1;
+          }
+      }
+
+    // The column map: the owned DoFs that are columns in their order, then
+    // the others ascending (as Epetra makes it from global indices on two
+    // ranks). A point's columns stay in the order of their components.
+    std::vector<GlobalIndex> relevant_global(relevant.n_elements());
+    {
+      unsigned int k = 0;
+      for (const auto dof : relevant)
+        relevant_global[k++] = dof;
+    }
+    std::vector<int>          column_of(relevant.n_elements(), -1);
+    std::vector<unsigned int> block_order(n_blocks, invalid);
+    std::vector<GlobalIndex>  column_global;
+    for (const bool own : {true, false})
+      for (unsigned int k = 0; k < relevant.n_elements(); ++k)
+        if (is_column[k] && owned.is_element(relevant_global[k]) == own)
+          {
+            column_of[k] = column_global.size();
+            if (block_order[k / 3] == invalid)
+              block_order[k / 3] = column_global.size();
+            column_global.push_back(relevant_global[k]);
+          }
+    release(is_column);
+    const Epetra_Map row_map = owned.make_trilinos_map(communicator, false);
+    const Epetra_Map column_map(
+      -1, column_global.size(), column_global.data(), 0, row_map.Comm());
+    release(column_global);
+    Epetra_CrsGraph graph(Copy, row_map, column_map, row_length.data(), true);
+
+    // Second pass: each point's neighbours in column order, its rows'
+    // columns, and the place of each of its cells' entries in its rows.
+    cell_entry.assign(144 * n_cells, no_entry);
+    std::fill(mark.begin(), mark.end(), invalid);
+    std::vector<int>           columns;
+    std::vector<std::uint16_t> place(3 * n_blocks, no_entry);
+    bool                       ok = true;
+    for (unsigned int b = 0; b < n_row_blocks && ok; ++b)
+      {
+        find_neighbours(b);
+        std::sort(neighbours.begin(),
+                  neighbours.end(),
+                  [&](const unsigned int x, const unsigned int y) {
+                    return block_order[x] < block_order[y];
+                  });
+        columns.clear();
+        for (const unsigned int k : neighbours)
+          for (unsigned int j = 0; j < 3; ++j)
+            if (!dropped_column(3 * k + j))
+              {
+                place[3 * k + j] = columns.size();
+                columns.push_back(column_of[3 * k + j]);
+              }
+            else
+              place[3 * k + j] = no_entry;
+        for (unsigned int i = 0; i < 3 && ok; ++i)
+          {
+            const unsigned int r = 3 * b + i;
+            if (dropped_row(r))
+              {
+                int diagonal = column_of[relevant.index_within_set(
+                  owned.nth_index_in_set(r))];
+                ok           = graph.InsertMyIndices(r, 1, &diagonal) == 0;
+              }
+            else
+              ok =
+                graph.InsertMyIndices(r, columns.size(), columns.data()) == 0;
+          }
+        for (unsigned int c = cells_of_block_start[b];
+             c < cells_of_block_start[b + 1];
+             ++c)
+          {
+            const std::size_t  cell = cells_of_block[c] / 4;
+            const unsigned int a    = cells_of_block[c] % 4;
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                std::uint16_t *entry =
+                  &cell_entry[12 * (12 * cell + 3 * a + i)];
+                if (dropped_row(3 * b + i))
+                  // Its diagonal alone, the first and only place.
+                  entry[3 * a + i] = 0;
+                else
+                  for (unsigned int q = 0; q < 12; ++q)
+                    entry[q] = place[3 * cell_block[4 * cell + q / 3] + q % 3];
+              }
+          }
+      }
+    AssertThrow(Utilities::MPI::min(ok ? 1 : 0, communicator) == 1,
+                ExcInternalError());
+    release(cells_of_block);
+    release(cells_of_block_start);
+    release(cell_block);
+    release(mark);
+    release(place);
+    {
+      int error = graph.FillComplete(row_map, row_map);
+      AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
+      error = graph.OptimizeStorage();
+      AssertThrow(error == 0, LACExceptions::ExcTrilinosError(error));
+    }
+    {
+      const Epetra_CrsMatrix shape(Copy, graph);
+      trilinos_matrix.reinit(shape, /*copy_values=*/false);
+    }
+    zero();
+    for (unsigned int r = 0; r < n_rows; ++r)
+      AssertThrow(trilinos_matrix.trilinos_matrix().NumMyEntries(r) ==
+                      row_length[r] &&
+                    row_length[r] < no_entry,
+                  ExcInternalError());
+
+    diagonal_column.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      diagonal_column[r] =
+        column_of[relevant.index_within_set(owned.nth_index_in_set(r))];
+    column_is_join.assign(column_map.NumMyElements(), 0);
+    for (unsigned int k = 0; k < relevant.n_elements(); ++k)
+      if (column_of[k] >= 0)
+        column_is_join[column_of[k]] = relevant_is_join[k];
+    release(cell_column);
+    release(cell_order);
+    return true;
   }
 
   void

@@ -71,6 +71,14 @@ namespace softface
       return cell_row[std::size_t(dofs_per_cell) * cell + i];
     }
 
+    /// Did set_cells() find the places point by point (its cells are
+    /// linear tetrahedra whose DoFs are point blocks)?
+    bool
+    by_point_blocks() const
+    {
+      return point_blocks;
+    }
+
     /// Zero the matrix (before an assembly). Collective.
     void
     zero();
@@ -130,6 +138,19 @@ namespace softface
 
   private:
     /**
+     * set_cells() where every cell is a linear tetrahedron whose DoFs come
+     * vertex by vertex as point blocks (3p, 3p+1, 3p+2), as a P1 layout's
+     * do: the three rows of a point share their columns, so a row's columns
+     * and the places of the cells' entries are found once per point from its
+     * cells' points (as PointBlockPattern does on one rank), and the graph
+     * is given its column map in local numbers. Taken when every rank's
+     * cells are such (false otherwise, with nothing changed). Collective.
+     */
+    bool
+    set_point_block_cells(
+      const std::vector<types::global_dof_index> &cell_dofs);
+
+    /**
      * Call at(k, q) for each of cell @p cell's DoFs q that has a place k in
      * the row of its DoF @p i (an owned one). The cell's columns and the
      * row's are both sorted: one walk along the row finds them all.
@@ -188,6 +209,7 @@ namespace softface
     /// rank owns it); per cell, its columns in the matrix's local numbers,
     /// sorted, and the cell's DoF of each (walk_row()).
     unsigned int              dofs_per_cell = 0;
+    bool                      point_blocks  = false;
     std::vector<int>          cell_row;
     std::vector<int>          cell_column;
     std::vector<std::uint8_t> cell_order;
