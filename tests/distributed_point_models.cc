@@ -4,13 +4,15 @@
 // with an exchange after each: the serial sweep, update for update. So the
 // ranks' answer equals the serial model's (MPI_COMM_SELF in the same run)
 // to the last bit, after as many sweeps, and stops where it stops:
+// Each rank holds the tensors of the points it updates only.
 // - the mass tensor model converged fully (gradient 1e-9 mm per sweep),
 //   which is linear FEM's answer, its converged equivalent; with its default
 //   stop (the seed's criterion checked by 'Stop distance', 0.1 mm) within
 //   0.1 mm of it: the seed's cube with the bone turned, without the active
-//   set and in damped Jacobi order too, the cube held on one face only (a
-//   rank owns no join point, and the held face lies on one rank), the
-//   shared gmsh cube lifted 6 mm, two tissues under gravity;
+//   set and in damped Jacobi order too (and its precision against the
+//   converged answer, which a rank solves from the whole tensors), the cube
+//   held on one face only (a rank owns no join point, and the held face lies on
+//   one rank), the shared gmsh cube lifted 6 mm, two tissues under gravity;
 // - the mass spring model on the same scenes, and on a cube whose bone
 //   moves near its held face, where the ranks' blocks are shared again
 //   between the load steps by each step's updates (the same answer and
@@ -81,29 +83,49 @@ namespace
                 sweeps[0]);
   }
 
-  /// The mass tensor model on one rank and on all, against linear FEM.
+  /// The mass tensor model on one rank and on all, against linear FEM;
+  /// with @p precision its precision against its converged answer too.
   void
   compare_mass_tensor(const std::string    &name,
                       const Scene          &scene,
                       const Vector<double> &prescribed,
                       const bool            converge_fully,
-                      const bool            active_set = true)
+                      const bool            active_set = true,
+                      const bool            precision  = false)
   {
     const Vector<double> exact = linear_fem(scene, prescribed);
     Vector<double>       answer[2];
     unsigned int         sweeps[2];
+    double               precision_max[2];
+    unsigned long long   rows_held = 0;
     for (const unsigned int on_ranks : {0u, 1u})
       {
         Models::MassTensor model;
         model.set_scheme(true, converge_fully ? 0. : 1e-3, 10, active_set);
-        answer[on_ranks] = solve(model,
+        model.set_report_precision(precision);
+        answer[on_ranks]        = solve(model,
                                  on_ranks ? MPI_COMM_WORLD : MPI_COMM_SELF,
                                  scene,
                                  prescribed);
-        sweeps[on_ranks] = model.statistics().iterations;
+        sweeps[on_ranks]        = model.statistics().iterations;
+        precision_max[on_ranks] = model.report().precision_max;
+        if (on_ranks)
+          for (unsigned int j = 0; j < model.n_points(); ++j)
+            rows_held += model.holds_tensors(j);
       }
     deallog << name << (converge_fully ? ", converged" : ", default stop")
             << ':' << std::endl;
+    // Each rank holds the tensors of the points it updates only.
+    check_equal("  points whose tensors a rank holds, summed over the ranks",
+                Utilities::MPI::sum(rows_held, MPI_COMM_WORLD),
+                scene.triangulation.n_vertices());
+    if (precision)
+      check_above("  precision on one rank (mm)", precision_max[0], 1e-9, 2);
+    if (precision)
+      check_below("  precision (largest distance to the converged answer, "
+                  "mm), ranks against serial",
+                  std::abs(precision_max[1] - precision_max[0]),
+                  1e-12 * (1. + precision_max[0]));
     check_below(
       "  largest distance to linear fem (mm)",
       Displacement::free_vertex_difference(scene, answer[1], exact).max,
@@ -170,7 +192,7 @@ SOFTFACE_TEST(distributed_point_models)
   make_cube_scene(cube, 8000);
   const Vector<double> turned = move_bone(cube, Point<3>(3, 0, 1), 10.);
   compare_mass_tensor("cube, turned", cube, turned, true);
-  compare_mass_tensor("cube, turned", cube, turned, false);
+  compare_mass_tensor("cube, turned", cube, turned, false, true, true);
   compare_mass_tensor(
     "cube, turned, no active set", cube, turned, false, false);
   // Jacobi order (damped) on the ranks: an exchange of every colour after

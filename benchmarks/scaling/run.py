@@ -110,7 +110,7 @@ PHASES = [
     ("linear FEM assembly + AMG + CG", [LF + "sparsity", LF + "assemble", LF + "eliminate join DoFs",
                                        LF + "preconditioner", LF + "solve"],
      [LF + "assemble", LF + "preconditioner", LF + "solve"]),
-    ("mass tensor tensors (every rank)", [MT + "tensors"], [MT + "tensors"]),
+    ("mass tensor tensors (a rank's rows)", [MT + "tensors"], [MT + "tensors"]),
     ("mass tensor sweeps", [MT + "sweeps"], [MT + "sweeps"]),
     ("mass spring springs (every rank)", [MS + "springs"], [MS + "springs"]),
     ("mass spring sweeps (its solve)", [MS + "solve s"], [MS + "solve s"]),
@@ -305,8 +305,9 @@ md = ["# Strong scaling: one MPI rank against two", "",
       f"interleaved, {REPS} repetition(s), medians, and in the last column the ratio of each "
       "side's fastest run (on a shared machine the least disturbed; a phase's fastest runs may "
       "be different runs); times from softface's own phase report (the "
-      "slowest rank's), whole process from its wall-time line. Every rank builds the whole scene, "
-      "and the tensors and springs (serial steps of issue 20's design so far). The FEM models "
+      "slowest rank's), whole process from its wall-time line. Every rank builds the whole scene "
+      "and the mass spring model's springs (serial steps of issue 20's design so far); the mass "
+      "tensor model's tensors only for the rows of the points a rank updates. The FEM models "
       "share one partition of the mesh (a DistributedLayout, made once) and assemble each rank's "
       "rows from every cell at them, its own and ghost cells (OwnedRowsMatrix); the point models give "
       "each rank a range of their 256-point blocks (the mass spring model's ranges shared again "

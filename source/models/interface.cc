@@ -7,6 +7,7 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/models/interface.h>
+#include <softface/models/point_exchange.h>
 
 #include <algorithm>
 #include <charconv>
@@ -233,6 +234,28 @@ namespace softface
       if (diagnostic)
         diagnostic_phases.push_back(name);
       return TimerOutput::Scope(timer_output, name);
+    }
+
+    std::unique_ptr<PointExchange>
+    Interface::point_exchange(const Scene          &scene,
+                              const BlockColouring &colouring,
+                              const PointMesh      &mesh)
+    {
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      if (n_ranks == 1)
+        return nullptr;
+      if (scene.has_vertex_constraints())
+        {
+          add_detail("MPI ranks",
+                     "1 (vertex constraints: whole on every rank)");
+          return nullptr;
+        }
+      const auto partition = phase("partition");
+      auto       exchange =
+        std::make_unique<PointExchange>(colouring, mesh, communicator);
+      add_detail("MPI ranks", n_ranks);
+      return exchange;
     }
 
     TimerOutput &

@@ -163,20 +163,7 @@ namespace softface
                                                      mesh->row_start,
                                                      mesh->neighbour);
       // On several MPI ranks each moves the points of its blocks (issue 20).
-      // A constrained step moves its partner, which another rank may own:
-      // with vertex constraints every rank runs the model whole.
-      exchange.reset();
-      const unsigned int n_ranks =
-        Utilities::MPI::n_mpi_processes(communicator);
-      if (n_ranks > 1 && !scene->has_vertex_constraints())
-        {
-          const auto partition = phase("partition");
-          exchange =
-            std::make_unique<PointExchange>(*colouring, *mesh, communicator);
-          add_detail("MPI ranks", n_ranks);
-        }
-      else if (n_ranks > 1)
-        add_detail("MPI ranks", "1 (vertex constraints: whole on every rank)");
+      exchange = point_exchange(*scene, *colouring, *mesh);
     }
 
     void

@@ -238,38 +238,38 @@ namespace softface
       scene           = &scene_in;
       converged_ready = false;
       converged_constraints.reset();
+      unsigned int n = 0;
+      {
+        const auto timed = phase("tensors");
+        mesh             = std::make_unique<PointMesh>(*scene, "mass tensor");
+        n                = mesh->n_points();
+        // A constrained update also moves its partner and reads the
+        // partner's neighbours, further than a block's colour keeps apart:
+        // such scenes sweep in plain order on one thread.
+        colouring = !scene->has_vertex_constraints() ?
+                      std::make_unique<BlockColouring>(n,
+                                                       mesh->row_start,
+                                                       mesh->neighbour) :
+                      std::make_unique<BlockColouring>(n);
+      }
+
+      // On several MPI ranks each updates the points it owns (issue 20),
+      // and holds their rows only.
+      exchange = point_exchange(*scene, *colouring, *mesh);
+
       auto timed           = phase("tensors");
-      mesh                 = std::make_unique<PointMesh>(*scene, "mass tensor");
-      const unsigned int n = mesh->n_points();
-
-      // seed eqs. 9-10: sum the tetrahedra's tensors per point and per edge.
-      coupling.assign(mesh->neighbour.size(), Block{});
-      diagonal.assign(n, Block{});
-      std::vector<Tensor<4, 3>> A; // one per tissue
-      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
-        A.push_back(Elasticity::linear_tangent(scene->tissue(t).lame()));
-      unsigned int c = 0;
-      for (const auto &cell : scene->triangulation.active_cell_iterators())
+      first_row            = 0;
+      unsigned int end_row = n;
+      if (exchange)
         {
-          const Elasticity::CellMatrix K =
-            Elasticity::p1_stiffness(Tetrahedron::geometry(
-                                       Tetrahedron::vertices(cell)),
-                                     A[scene->tissue_of_cell(c)]);
-          const auto &p = mesh->tetrahedra[c++];
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int b = 0; b < 4; ++b)
-              {
-                Block *target = (a == b) ?
-                                  &diagonal[p[a]] :
-                                  &coupling[mesh->edge_index(p[a], p[b])];
-                for (unsigned int r = 0; r < 3; ++r)
-                  for (unsigned int s = 0; s < 3; ++s)
-                    (*target)[3 * r + s] += K[a][b][r][s];
-              }
+          first_row = exchange->first_owned_point();
+          end_row   = first_row + exchange->n_owned_points();
         }
+      first_entry = mesh->row_start[first_row];
+      make_tensors(first_row, end_row, coupling, diagonal);
 
-      diagonal_inverse.resize(n);
-      for (unsigned int j = 0; j < n; ++j)
+      diagonal_inverse.resize(diagonal.size());
+      for (unsigned int j = 0; j < diagonal.size(); ++j)
         {
           Tensor<2, 3> D;
           for (unsigned int r = 0; r < 3; ++r)
@@ -301,39 +301,60 @@ namespace softface
       if (!point_constraints.empty() && !gauss_seidel)
         throw Error("mass tensor: vertex constraints (sliding contact, "
                     "separated lips) need 'Ordering = gauss-seidel'.");
-      // A constrained update also moves its partner and reads the partner's
-      // neighbours, further than a block's colour keeps apart: such scenes
-      // sweep in plain order on one thread.
-      colouring = point_constraints.empty() ?
-                    std::make_unique<BlockColouring>(n,
-                                                     mesh->row_start,
-                                                     mesh->neighbour) :
-                    std::make_unique<BlockColouring>(n);
       add_detail("colours", colouring->colours.size(), "");
 
-      add_detail("tensor memory",
-                 (mesh->neighbour.size() *
-                    (sizeof(Block) + sizeof(unsigned int)) +
-                  n * 2 * sizeof(Block)) /
-                   1048576.,
-                 "MB");
       timed.stop();
 
-      // On several MPI ranks each updates the points it owns (issue 20).
-      // A constrained update moves its partner, which another rank may own:
-      // with vertex constraints every rank runs the model whole.
-      exchange.reset();
-      const unsigned int n_ranks =
-        Utilities::MPI::n_mpi_processes(communicator);
-      if (n_ranks > 1 && point_constraints.empty())
+      // This rank's tensors and the neighbour lists (every rank's).
+      add_detail("tensor memory",
+                 (coupling.size() * sizeof(Block) +
+                  mesh->neighbour.size() * sizeof(unsigned int) +
+                  diagonal.size() * 2 * sizeof(Block)) /
+                   1048576.,
+                 "MB");
+    }
+
+    void
+    MassTensor::make_tensors(const unsigned int  first,
+                             const unsigned int  end,
+                             std::vector<Block> &coupling_rows,
+                             std::vector<Block> &diagonal_rows) const
+    {
+      const std::size_t first_i = mesh->row_start[first];
+      coupling_rows.assign(mesh->row_start[end] - first_i, Block{});
+      diagonal_rows.assign(end - first, Block{});
+      std::vector<Tensor<4, 3>> A; // one per tissue
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        A.push_back(Elasticity::linear_tangent(scene->tissue(t).lame()));
+      const auto held = [&](const unsigned int j) {
+        return j >= first && j < end;
+      };
+      unsigned int c = 0;
+      for (const auto &cell : scene->triangulation.active_cell_iterators())
         {
-          const auto partition = phase("partition");
-          exchange =
-            std::make_unique<PointExchange>(*colouring, *mesh, communicator);
-          add_detail("MPI ranks", n_ranks);
+          const auto &p = mesh->tetrahedra[c];
+          if (!held(p[0]) && !held(p[1]) && !held(p[2]) && !held(p[3]))
+            {
+              ++c;
+              continue;
+            }
+          const Elasticity::CellMatrix K =
+            Elasticity::p1_stiffness(Tetrahedron::geometry(
+                                       Tetrahedron::vertices(cell)),
+                                     A[scene->tissue_of_cell(c++)]);
+          for (unsigned int a = 0; a < 4; ++a)
+            if (held(p[a]))
+              for (unsigned int b = 0; b < 4; ++b)
+                {
+                  Block *target =
+                    (a == b) ?
+                      &diagonal_rows[p[a] - first] :
+                      &coupling_rows[mesh->edge_index(p[a], p[b]) - first_i];
+                  for (unsigned int r = 0; r < 3; ++r)
+                    for (unsigned int s = 0; s < 3; ++s)
+                      (*target)[3 * r + s] += K[a][b][r][s];
+                }
         }
-      else if (n_ranks > 1)
-        add_detail("MPI ranks", "1 (vertex constraints: whole on every rank)");
     }
 
     void
@@ -344,7 +365,15 @@ namespace softface
       const auto        &row_start = mesh->row_start;
       const auto        &neighbour = mesh->neighbour;
       const auto        &is_free   = mesh->is_free;
-      const unsigned int n         = diagonal.size();
+      const unsigned int n         = mesh->n_points();
+      // The whole tensors: on several MPI ranks this one holds its rows only.
+      std::vector<Block> whole_coupling, whole_diagonal;
+      if (first_row != 0 || diagonal.size() != n)
+        make_tensors(0, n, whole_coupling, whole_diagonal);
+      const std::vector<Block> &all_coupling =
+        whole_diagonal.empty() ? coupling : whole_coupling;
+      const std::vector<Block> &all_diagonal =
+        whole_diagonal.empty() ? diagonal : whole_diagonal;
       if (!converged_ready)
         {
           // The tensors are the blocks of one sparse matrix on the shared
@@ -357,11 +386,11 @@ namespace softface
                 {
                   converged_matrix.set(3 * j + r,
                                        3 * j + s,
-                                       diagonal[j][3 * r + s]);
+                                       all_diagonal[j][3 * r + s]);
                   for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                     converged_matrix.set(3 * j + r,
                                          3 * neighbour[i] + s,
-                                         coupling[i][3 * r + s]);
+                                         all_coupling[i][3 * r + s]);
                 }
           if (!point_constraints.empty())
             {
@@ -391,14 +420,14 @@ namespace softface
           {
             if (!is_free[j])
               {
-                rhs[3 * j + r] = diagonal[j][4 * r] * prescribed[3 * j + r];
+                rhs[3 * j + r] = all_diagonal[j][4 * r] * prescribed[3 * j + r];
                 continue;
               }
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
               if (!is_free[neighbour[i]])
                 for (unsigned int s = 0; s < 3; ++s)
-                  rhs[3 * j + r] -=
-                    coupling[i][3 * r + s] * prescribed[3 * neighbour[i] + s];
+                  rhs[3 * j + r] -= all_coupling[i][3 * r + s] *
+                                    prescribed[3 * neighbour[i] + s];
           }
       converged.reinit(3 * n);
       if (converged_constraints)
@@ -437,13 +466,13 @@ namespace softface
           f[r] = -load[3 * j + r];
       for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
         {
-          const double *B  = coupling[i].data();
+          const double *B  = coupling_of(i);
           const double *uk = u + 3 * neighbour[i];
           for (unsigned int r = 0; r < 3; ++r)
             f[r] +=
               B[3 * r] * uk[0] + B[3 * r + 1] * uk[1] + B[3 * r + 2] * uk[2];
         }
-      const double *D = diagonal_inverse[j].data();
+      const double *D = inverse_of(j);
       for (unsigned int r = 0; r < 3; ++r)
         opt[r] = -(D[3 * r] * f[0] + D[3 * r + 1] * f[1] + D[3 * r + 2] * f[2]);
     }
@@ -463,7 +492,7 @@ namespace softface
       // by the multiplier that closes their gap).
       const PointConstraint &c   = point_constraints[constraint_of_point[j]];
       const auto             D_n = [&](const unsigned int k, double Dn[3]) {
-        const double *D = diagonal_inverse[k].data();
+        const double *D = inverse_of(k);
         for (unsigned int r = 0; r < 3; ++r)
           Dn[r] =
             D[3 * r] * c.n[0] + D[3 * r + 1] * c.n[1] + D[3 * r + 2] * c.n[2];
@@ -530,7 +559,7 @@ namespace softface
       const auto        &row_start = mesh->row_start;
       const auto        &neighbour = mesh->neighbour;
       const auto        &is_free   = mesh->is_free;
-      const unsigned int n         = diagonal.size();
+      const unsigned int n         = mesh->n_points();
       double             threshold = stop_gradient_threshold > 0. ?
                                        stop_gradient_threshold :
                                        convergence_tolerance;
@@ -672,11 +701,18 @@ namespace softface
       std::size_t            restart            = 0;
       unsigned int           n_verifications    = 0;
       double                 estimated_distance = 0., contraction_rate = 0.;
-      Timer                  sweep_timer;
-      auto                   sweeps_phase = phase("sweeps");
-      const unsigned int     n_blocks     = colouring->n_blocks();
-      std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
-      std::vector<char>      block_stopped(n_blocks);
+      // On several ranks the sweeps start together: a rank that set up
+      // sooner would wait in the first exchange, in its sweeps' time.
+      if (exchange)
+        {
+          const int error = MPI_Barrier(exchange->communicator);
+          AssertThrowMPI(error);
+        }
+      Timer               sweep_timer;
+      auto                sweeps_phase = phase("sweeps");
+      const unsigned int  n_blocks     = colouring->n_blocks();
+      std::vector<double> block_largest(n_blocks), diverged(n_blocks, 0.);
+      std::vector<char>   block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
@@ -719,8 +755,13 @@ namespace softface
                                         const std::size_t  q_end) {
             double                    &largest_change = block_largest[b];
             std::vector<unsigned int> &queued         = block_queued[b];
-            largest_change                            = 0.;
-            bool all_stopped                          = true;
+            // This rank's rows, read in the loop below from locals.
+            const Block *const rows_coupling = coupling.data();
+            const Block *const rows_inverse  = diagonal_inverse.data();
+            const std::size_t  entry0        = first_entry;
+            const unsigned int row0          = first_row;
+            largest_change                   = 0.;
+            bool all_stopped                 = true;
             for (auto q = q_begin; q < q_end; ++q)
               {
                 const unsigned int j = current[q];
@@ -734,13 +775,13 @@ namespace softface
                   }
                 for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
                   {
-                    const double *B  = coupling[i].data();
+                    const double *B  = rows_coupling[i - entry0].data();
                     const double *uk = u + 3 * neighbour[i];
                     f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
                     f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
                     f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
                   }
-                const double *D      = diagonal_inverse[j].data();
+                const double *D      = rows_inverse[j - row0].data();
                 double       *uj     = u + 3 * j;
                 double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
                                         -(D[3] * f0 + D[4] * f1 + D[5] * f2),
@@ -957,7 +998,7 @@ namespace softface
             double r[3] = {0., 0., 0.}, f[3] = {0., 0., 0.};
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
               {
-                const double *B  = coupling[i].data();
+                const double *B  = coupling_of(i);
                 const double *uk = u + 3 * neighbour[i];
                 for (unsigned int a = 0; a < 3; ++a)
                   {
@@ -974,7 +1015,7 @@ namespace softface
                   r[a] -= load[3 * j + a];
                   f[a] -= load[3 * j + a];
                 }
-            const double *B  = diagonal[j].data();
+            const double *B  = diagonal[j - first_row].data();
             const double *uj = u + 3 * j;
             for (unsigned int a = 0; a < 3; ++a)
               r[a] +=
@@ -1078,15 +1119,18 @@ namespace softface
     unsigned int
     MassTensor::n_points() const
     {
-      return diagonal.size();
+      return mesh ? mesh->n_points() : 0;
     }
 
     Tensor<2, 3>
     MassTensor::tensor(const unsigned int j, const unsigned int k) const
     {
+      AssertThrow(holds_tensors(j),
+                  ExcMessage("Point " + std::to_string(j) +
+                             "'s tensors are another MPI rank's."));
       const Block *block = nullptr;
       if (j == k)
-        block = &diagonal[j];
+        block = &diagonal[j - first_row];
       else
         {
           const auto &neighbour = mesh->neighbour;
@@ -1094,7 +1138,7 @@ namespace softface
           const auto  end       = neighbour.begin() + mesh->row_start[j + 1];
           const auto  it        = std::lower_bound(begin, end, k);
           if (it != end && *it == k)
-            block = &coupling[it - neighbour.begin()];
+            block = &coupling[(it - neighbour.begin()) - first_entry];
         }
       Tensor<2, 3> K;
       if (block != nullptr)

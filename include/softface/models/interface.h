@@ -23,10 +23,14 @@ namespace softface
 
   class DistributedLayout;
   class SharedDistributedLayout;
+  class BlockColouring;
+  class PointExchange;
 
 
   namespace Models
   {
+    struct PointMesh;
+
     /**
      * One of a model's own figures (sweeps, precision, Newton iterations per
      * load step, ...), printed under the summary table and written to
@@ -235,6 +239,17 @@ namespace softface
       /// A text figure.
       void
       add_detail(const std::string &name, const std::string &text);
+      /**
+       * A point model's ranges of blocks on the ranks of its communicator
+       * (issue 20), timed as its "partition" phase, with its "MPI ranks"
+       * figure; none on one rank, or where the scene has vertex constraints
+       * (a constrained step moves its partner, which another rank may own:
+       * every rank then runs the model whole). Collective.
+       */
+      std::unique_ptr<PointExchange>
+      point_exchange(const Scene          &scene,
+                     const BlockColouring &colouring,
+                     const PointMesh      &mesh);
       void
       warn(const std::string &message);
 

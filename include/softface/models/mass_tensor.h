@@ -100,7 +100,17 @@ namespace softface
 
       unsigned int
       n_points() const;
-      /// K_jk (K_jj for j == k); zero if j and k share no tetrahedron.
+      /// Does this process hold point @p j's tensors (the K_jk of its row)?
+      /// Every point's on one rank; on several, those of the points it
+      /// updates.
+      bool
+      holds_tensors(const unsigned int j) const
+      {
+        return j >= first_row && j - first_row < diagonal.size();
+      }
+
+      /// K_jk (K_jj for j == k); zero if j and k share no tetrahedron. Point
+      /// @p j's tensors must be this process's (holds_tensors()).
       Tensor<2, 3>
       tensor(const unsigned int j, const unsigned int k) const;
 
@@ -150,11 +160,37 @@ namespace softface
       std::unique_ptr<PointExchange> exchange;
 
       // Block-CSR on the points' neighbours (mesh->row_start, ->neighbour):
-      // K_jk in coupling[...], K_jj and K_jj^-1 per point.
+      // K_jk in coupling[...], K_jj and K_jj^-1 per point. A process holds
+      // the rows of the points it updates: every point, or on several MPI
+      // ranks the range it owns, from point first_row and neighbour entry
+      // first_entry = row_start[first_row] on (the accessors below).
       std::unique_ptr<PointMesh> mesh;
       std::vector<Block>         coupling;
       std::vector<Block>         diagonal;
       std::vector<Block>         diagonal_inverse;
+      unsigned int               first_row   = 0;
+      std::size_t                first_entry = 0;
+
+      /// K_jk of neighbour entry @p i (row_start[j] <= i < row_start[j+1])
+      /// of a row this process holds.
+      const double *
+      coupling_of(const std::size_t i) const
+      {
+        return coupling[i - first_entry].data();
+      }
+      /// K_jj^-1 of a point this process holds.
+      const double *
+      inverse_of(const unsigned int j) const
+      {
+        return diagonal_inverse[j - first_row].data();
+      }
+      /// Seed eqs. 9-10: the tensors of the rows of points [@p first, @p end)
+      /// (each tetrahedron at one of them adds to their rows).
+      void
+      make_tensors(const unsigned int  first,
+                   const unsigned int  end,
+                   std::vector<Block> &coupling_rows,
+                   std::vector<Block> &diagonal_rows) const;
       // Vertex constraints (sliding contact, lips) per point: the index of
       // its constraint in point_constraints, or -1.
       struct PointConstraint

@@ -77,6 +77,14 @@ namespace softface
       return point >= first_point && point < end_point;
     }
 
+    /// The first point this rank owns (it owns n_owned_points() from it
+    /// on).
+    unsigned int
+    first_owned_point() const
+    {
+      return first_point;
+    }
+
     /// Points owned by this rank and held as ghosts, for reports.
     unsigned int
     n_owned_points() const
