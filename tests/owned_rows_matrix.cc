@@ -9,7 +9,8 @@
 // are eliminated, and with the couplings dropped (the linear FEM
 // stiffness). The cells' DoFs as the layout gives them (point blocks: the
 // places are found point by point); with the components first (a
-// tetrahedron that is no point blocks: places found per entry); and twice
+// tetrahedron that is no point blocks: places found per entry), so on rank
+// 0 only (every rank must then take the general way); and twice
 // (24 DoFs, all sums four times as large: added by walking the rows).
 
 #include <deal.II/dofs/dof_tools.h>
@@ -167,7 +168,10 @@ namespace
     for (const auto &cell : cells)
       serial_cell.push_back(layout.serial_cell(cell)->active_cell_index());
 
-    for (const std::string order : {"", "components first, ", "twice, "})
+    const bool first_rank =
+      Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+    for (const std::string order :
+         {"", "components first, ", "components first on rank 0, ", "twice, "})
       for (const auto couplings : {JoinCouplings::kept, JoinCouplings::dropped})
         {
           const unsigned int copies = order == "twice, " ? 2 : 1;
@@ -182,9 +186,12 @@ namespace
               for (unsigned int q = 0; q < 12; ++q)
                 // Vertex by vertex, or component by component.
                 dofs.push_back(
-                  cell_dofs[12 * k + (order == "components first, " ?
-                                        3 * (q % 4) + q / 4 :
-                                        q)]);
+                  cell_dofs[12 * k +
+                            (order == "components first, " ||
+                                 (order == "components first on rank 0, " &&
+                                  first_rank) ?
+                               3 * (q % 4) + q / 4 :
+                               q)]);
           OwnedRowsMatrix rows(layout.locally_owned_dofs,
                                layout.locally_relevant_dofs,
                                relevant_is_join,

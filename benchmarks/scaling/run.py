@@ -110,7 +110,7 @@ PHASES = [
     ("linear FEM assembly + AMG + CG", [LF + "sparsity", LF + "assemble", LF + "eliminate join DoFs",
                                        LF + "preconditioner", LF + "solve"],
      [LF + "assemble", LF + "preconditioner", LF + "solve"]),
-    ("mass tensor tensors (a rank's rows)", [MT + "tensors"], [MT + "tensors"]),
+    ("mass tensor tensors (point mesh every rank, tensors a rank's rows)", [MT + "tensors"], [MT + "tensors"]),
     ("mass tensor sweeps", [MT + "sweeps"], [MT + "sweeps"]),
     ("mass spring springs (every rank)", [MS + "springs"], [MS + "springs"]),
     ("mass spring sweeps (its solve)", [MS + "solve s"], [MS + "solve s"]),

@@ -225,7 +225,8 @@ namespace softface
 
     // Each cell's points as point blocks among the relevant DoFs (k: DoFs
     // 3k, 3k+1, 3k+2 of relevant) and among the owned rows (or invalid).
-    // Any cell that is not such sends every rank the general way.
+    // Any cell that is not such, or has no owned point (given by mistake:
+    // the general way refuses it), sends every rank the general way.
     std::vector<unsigned int> cell_block(4 * n_cells);
     std::vector<unsigned int> cell_row_block(4 * n_cells);
     bool                      blocks = relevant.n_elements() % 3 == 0 &&
@@ -244,6 +245,11 @@ namespace softface
                     o % 3 == 0 && owned.index_within_set(dofs[2]) == o + 2);
         cell_block[v]     = k / 3;
         cell_row_block[v] = o == no_index ? invalid : o / 3;
+        if (v % 4 == 3)
+          blocks = blocks && (cell_row_block[v] != invalid ||
+                              cell_row_block[v - 1] != invalid ||
+                              cell_row_block[v - 2] != invalid ||
+                              cell_row_block[v - 3] != invalid);
       }
     if (Utilities::MPI::min(blocks ? 1 : 0, communicator) == 0)
       return false;

@@ -9,6 +9,7 @@
 
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
+#include <softface/core/release.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
@@ -238,6 +239,8 @@ namespace softface
       scene           = &scene_in;
       converged_ready = false;
       converged_constraints.reset();
+      release(whole_coupling);
+      release(whole_diagonal);
       unsigned int n = 0;
       {
         const auto timed = phase("tensors");
@@ -255,6 +258,7 @@ namespace softface
 
       // On several MPI ranks each updates the points it owns (issue 20),
       // and holds their rows only.
+      exchange.reset();
       exchange = point_exchange(*scene, *colouring, *mesh);
 
       auto timed           = phase("tensors");
@@ -366,9 +370,9 @@ namespace softface
       const auto        &neighbour = mesh->neighbour;
       const auto        &is_free   = mesh->is_free;
       const unsigned int n         = mesh->n_points();
-      // The whole tensors: on several MPI ranks this one holds its rows only.
-      std::vector<Block> whole_coupling, whole_diagonal;
-      if (first_row != 0 || diagonal.size() != n)
+      // The whole tensors: on several MPI ranks this one holds its rows only
+      // and makes the others once, for this diagnostic.
+      if ((first_row != 0 || diagonal.size() != n) && whole_diagonal.empty())
         make_tensors(0, n, whole_coupling, whole_diagonal);
       const std::vector<Block> &all_coupling =
         whole_diagonal.empty() ? coupling : whole_coupling;
@@ -701,18 +705,11 @@ namespace softface
       std::size_t            restart            = 0;
       unsigned int           n_verifications    = 0;
       double                 estimated_distance = 0., contraction_rate = 0.;
-      // On several ranks the sweeps start together: a rank that set up
-      // sooner would wait in the first exchange, in its sweeps' time.
-      if (exchange)
-        {
-          const int error = MPI_Barrier(exchange->communicator);
-          AssertThrowMPI(error);
-        }
-      Timer               sweep_timer;
-      auto                sweeps_phase = phase("sweeps");
-      const unsigned int  n_blocks     = colouring->n_blocks();
-      std::vector<double> block_largest(n_blocks), diverged(n_blocks, 0.);
-      std::vector<char>   block_stopped(n_blocks);
+      Timer                  sweep_timer;
+      auto                   sweeps_phase = phase("sweeps");
+      const unsigned int     n_blocks     = colouring->n_blocks();
+      std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
+      std::vector<char>      block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {

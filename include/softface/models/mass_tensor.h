@@ -101,8 +101,7 @@ namespace softface
       unsigned int
       n_points() const;
       /// Does this process hold point @p j's tensors (the K_jk of its row)?
-      /// Every point's on one rank; on several, those of the points it
-      /// updates.
+      /// Every point's on one rank; on several, those of the points it owns.
       bool
       holds_tensors(const unsigned int j) const
       {
@@ -161,15 +160,19 @@ namespace softface
 
       // Block-CSR on the points' neighbours (mesh->row_start, ->neighbour):
       // K_jk in coupling[...], K_jj and K_jj^-1 per point. A process holds
-      // the rows of the points it updates: every point, or on several MPI
-      // ranks the range it owns, from point first_row and neighbour entry
-      // first_entry = row_start[first_row] on (the accessors below).
+      // the rows of every point, or on several MPI ranks of the range of
+      // points it owns (join points among them), from point first_row and
+      // neighbour entry first_entry = row_start[first_row] on (the
+      // accessors below). whole_coupling and whole_diagonal: every row, on
+      // several ranks, once the converged answer has asked for them.
       std::unique_ptr<PointMesh> mesh;
       std::vector<Block>         coupling;
       std::vector<Block>         diagonal;
       std::vector<Block>         diagonal_inverse;
       unsigned int               first_row   = 0;
       std::size_t                first_entry = 0;
+      std::vector<Block>         whole_coupling;
+      std::vector<Block>         whole_diagonal;
 
       /// K_jk of neighbour entry @p i (row_start[j] <= i < row_start[j+1])
       /// of a row this process holds.
