@@ -4,8 +4,9 @@ generated cube (6 mm lift) at SIZES tetrahedra, one thread per rank, once each; 
 rank (softface's own report: the largest rank's), the phases and the whole process. Fails if the
 two answers differ by more than 1e-8 relative (Newton to a residual of 1e-10).
 
-usage: reference.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick]
-Writes RESULTS/scaling_reference.md, .csv, .png.
+usage: reference.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick] [--sizes N,N,...]
+(--sizes: the cube's requested tetrahedra, default 100000,300000). Writes
+RESULTS/scaling_reference.md, .csv, .png.
 """
 import csv, os, re, sys
 
@@ -17,8 +18,11 @@ matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
 softface, mpiexec, work, results, command = sys.argv[1:6]
-quick = "--quick" in sys.argv[6:]
+options = sys.argv[6:]
+quick = "--quick" in options
 SIZES = [20000] if quick else [100000, 300000]
+if "--sizes" in options:
+    SIZES = [int(n) for n in options[options.index("--sizes") + 1].split(",")]
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
 

@@ -40,7 +40,30 @@ namespace softface
     using GlobalIndex = TrilinosWrappers::types::int_type;
     AssertThrow(n > 0 && n <= 255, ExcNotImplemented());
     dofs_per_cell = n;
-    point_blocks  = n == 12 && set_point_block_cells(cell_dofs);
+
+    // What both ways need: each relevant DoF's global index, and each owned
+    // row's place among the relevant DoFs and whether it is a join DoF.
+    std::vector<GlobalIndex> relevant_global(relevant.n_elements());
+    {
+      unsigned int k = 0;
+      for (const auto dof : relevant)
+        relevant_global[k++] = dof;
+    }
+    std::vector<unsigned int> row_relevant(owned.n_elements());
+    row_is_join.resize(owned.n_elements());
+    {
+      unsigned int r = 0;
+      for (const auto dof : owned)
+        {
+          row_relevant[r] = relevant.index_within_set(dof);
+          row_is_join[r]  = relevant_is_join[row_relevant[r]];
+          ++r;
+        }
+    }
+
+    point_blocks =
+      n == 12 &&
+      set_point_block_cells(cell_dofs, relevant_global, row_relevant);
     if (point_blocks)
       return;
     const std::size_t  n_cells       = cell_dofs.size() / n;
@@ -88,16 +111,6 @@ namespace softface
     // A row's columns are the DoFs of its cells, once each (a mark per
     // relevant DoF); found twice: their number sizes the graph's rows, then
     // they enter it, row by row.
-    std::vector<GlobalIndex> relevant_global(n_relevant);
-    {
-      unsigned int k = 0;
-      for (const auto dof : relevant)
-        relevant_global[k++] = dof;
-    }
-    row_is_join.resize(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      row_is_join[r] =
-        relevant_is_join[relevant.index_within_set(owned.nth_index_in_set(r))];
     const bool                drop = join_couplings == JoinCouplings::dropped;
     std::vector<unsigned int> mark(n_relevant);
     std::vector<GlobalIndex>  columns;
@@ -105,7 +118,7 @@ namespace softface
       columns.clear();
       if (drop && row_is_join[r])
         {
-          columns.push_back(owned.nth_index_in_set(r));
+          columns.push_back(relevant_global[row_relevant[r]]);
           return;
         }
       for (unsigned int c = cells_of_row_start[r];
@@ -134,8 +147,7 @@ namespace softface
     for (unsigned int r = 0; r < n_rows && ok; ++r)
       {
         find_columns(r);
-        ok = graph.InsertGlobalIndices(static_cast<GlobalIndex>(
-                                         owned.nth_index_in_set(r)),
+        ok = graph.InsertGlobalIndices(relevant_global[row_relevant[r]],
                                        columns.size(),
                                        columns.data()) == 0;
       }
@@ -161,8 +173,7 @@ namespace softface
     const Epetra_CrsMatrix &matrix = trilinos_matrix.trilinos_matrix();
     diagonal_column.resize(n_rows);
     for (unsigned int r = 0; r < n_rows; ++r)
-      diagonal_column[r] =
-        matrix.LCID(static_cast<GlobalIndex>(owned.nth_index_in_set(r)));
+      diagonal_column[r] = matrix.LCID(relevant_global[row_relevant[r]]);
     column_is_join.resize(matrix.NumMyCols());
     for (int c = 0; c < matrix.NumMyCols(); ++c)
       column_is_join[c] = relevant_is_join[relevant.index_within_set(
@@ -216,7 +227,9 @@ namespace softface
 
   bool
   OwnedRowsMatrix::set_point_block_cells(
-    const std::vector<types::global_dof_index> &cell_dofs)
+    const std::vector<types::global_dof_index>           &cell_dofs,
+    const std::vector<TrilinosWrappers::types::int_type> &relevant_global,
+    const std::vector<unsigned int>                      &row_relevant)
   {
     using GlobalIndex               = TrilinosWrappers::types::int_type;
     constexpr unsigned int invalid  = numbers::invalid_unsigned_int;
@@ -279,10 +292,6 @@ namespace softface
     }
     release(cell_row_block);
 
-    row_is_join.resize(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      row_is_join[r] =
-        relevant_is_join[relevant.index_within_set(owned.nth_index_in_set(r))];
     const auto dropped_row = [&](const unsigned int r) {
       return drop && row_is_join[r];
     };
@@ -331,20 +340,13 @@ namespace softface
             const unsigned int r = 3 * b + i;
             row_length[r]        = dropped_row(r) ? 1 : free_length;
             if (dropped_row(r))
-              is_column[relevant.index_within_set(owned.nth_index_in_set(r))] =
-                1;
+              is_column[row_relevant[r]] = 1;
           }
       }
 
     // The column map: the owned DoFs that are columns in their order, then
     // the others ascending (as Epetra makes it from global indices on two
     // ranks). A point's columns stay in the order of their components.
-    std::vector<GlobalIndex> relevant_global(relevant.n_elements());
-    {
-      unsigned int k = 0;
-      for (const auto dof : relevant)
-        relevant_global[k++] = dof;
-    }
     std::vector<int>          column_of(relevant.n_elements(), -1);
     std::vector<unsigned int> block_order(n_blocks, invalid);
     std::vector<GlobalIndex>  column_global;
@@ -394,8 +396,7 @@ namespace softface
             const unsigned int r = 3 * b + i;
             if (dropped_row(r))
               {
-                int diagonal = column_of[relevant.index_within_set(
-                  owned.nth_index_in_set(r))];
+                int diagonal = column_of[row_relevant[r]];
                 ok           = graph.InsertMyIndices(r, 1, &diagonal) == 0;
               }
             else
@@ -447,8 +448,7 @@ namespace softface
 
     diagonal_column.resize(n_rows);
     for (unsigned int r = 0; r < n_rows; ++r)
-      diagonal_column[r] =
-        column_of[relevant.index_within_set(owned.nth_index_in_set(r))];
+      diagonal_column[r] = column_of[row_relevant[r]];
     column_is_join.assign(column_map.NumMyElements(), 0);
     for (unsigned int k = 0; k < relevant.n_elements(); ++k)
       if (column_of[k] >= 0)

@@ -145,10 +145,14 @@ namespace softface
      * cells' points (as PointBlockPattern does on one rank), and the graph
      * is given its column map in local numbers. Taken when every rank's
      * cells are such (false otherwise, with nothing changed). Collective.
+     * @p relevant_global holds each relevant DoF's global index,
+     * @p row_relevant each owned row's place among the relevant DoFs.
      */
     bool
     set_point_block_cells(
-      const std::vector<types::global_dof_index> &cell_dofs);
+      const std::vector<types::global_dof_index>           &cell_dofs,
+      const std::vector<TrilinosWrappers::types::int_type> &relevant_global,
+      const std::vector<unsigned int>                      &row_relevant);
 
     /**
      * Call at(k, q) for each of cell @p cell's DoFs q that has a place k in
