@@ -17,6 +17,8 @@
 //   moves near its held face, where the ranks' blocks are shared again
 //   between the load steps by each step's updates (the same answer and
 //   sweeps).
+// On the ranks, the updates of the rank each colour waits for, summed over
+// the sweeps' colours, lie between the busiest rank's and all updates.
 
 #include <softface/core/displacement.h>
 #include <softface/models/linear_fem.h>
@@ -56,6 +58,19 @@ namespace
           shared |= detail.name == "MPI ranks" && detail.value == n_ranks;
         if (!shared)
           throw std::runtime_error("the model did not run on the ranks");
+        // Each colour of a sweep waits for the rank with the most updates
+        // in it: summed colour by colour, those are at least the busiest
+        // rank's total and at most every update.
+        const auto figure = [&](const std::string &name) {
+          for (const auto &detail : model.statistics().details)
+            if (detail.name == name)
+              return detail.value;
+          throw std::runtime_error("no figure '" + name + "'");
+        };
+        check_within("  slowest rank's updates, colour by colour",
+                     figure("slowest rank's point updates, colour by colour"),
+                     figure("busiest rank's point updates"),
+                     figure("point updates"));
       }
     return u;
   }

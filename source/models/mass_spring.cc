@@ -389,7 +389,10 @@ namespace softface
       // step's work is the best guess at the next's. Any range of blocks
       // makes the serial updates (PointExchange): the answer does not
       // change.
-      unsigned int        rebalances = 0;
+      unsigned int rebalances = 0;
+      // This sweep's updates per block, for the ranks' colour by colour.
+      std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
+      ColourUpdates             colour_updates;
       std::vector<double> block_work(exchange && n_load_steps > 1 ? n_blocks :
                                                                     0,
                                      0.);
@@ -462,6 +465,8 @@ namespace softface
                 std::vector<unsigned int> &queued = block_queued[b];
                 if (!block_work.empty())
                   block_work[b] += end - begin;
+                if (!block_updates.empty())
+                  block_updates[b] = end - begin;
                 for (std::size_t q = begin; q < end; ++q)
                   {
                     const unsigned int j = (*current)[q];
@@ -545,6 +550,10 @@ namespace softface
               // next colour (PointExchange): the serial sweep. A ghost that
               // moved changed the force on its neighbours here.
               const auto exchange_colour = [&](const unsigned int c) {
+                unsigned int in_colour = 0;
+                for (const unsigned int b : colouring->colours[c])
+                  in_colour += block_updates[b];
+                colour_updates.record(in_colour);
                 moved_ghosts.clear();
                 exchange->exchange(c, &x[0][0], moved_ghosts);
                 for (const unsigned int g : moved_ghosts)
@@ -656,6 +665,8 @@ namespace softface
           // with the most updates in it.
           add_detail("busiest rank's point updates",
                      Utilities::MPI::max(own_updates, communicator));
+          add_detail("slowest rank's point updates, colour by colour",
+                     colour_updates.slowest_sum(communicator));
           // The ranges and ghosts above are the last load step's; the next
           // plan starts from them.
           add_detail("load steps that moved blocks between ranks", rebalances);

@@ -23,6 +23,7 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <sstream>
 
 namespace softface
@@ -709,7 +710,13 @@ namespace softface
       auto                   sweeps_phase = phase("sweeps");
       const unsigned int     n_blocks     = colouring->n_blocks();
       std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
-      std::vector<char>      block_stopped(n_blocks);
+      // This sweep's updates per block, for the ranks' colour by colour
+      // (every block at once where no exchange separates the colours).
+      std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
+      std::vector<unsigned int> all_blocks(exchange ? n_blocks : 0);
+      std::iota(all_blocks.begin(), all_blocks.end(), 0u);
+      ColourUpdates                          colour_updates;
+      std::vector<char>                      block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
@@ -752,6 +759,8 @@ namespace softface
                                         const std::size_t  q_end) {
             double                    &largest_change = block_largest[b];
             std::vector<unsigned int> &queued         = block_queued[b];
+            if (!block_updates.empty())
+              block_updates[b] = q_end - q_begin;
             // This rank's rows, read in the loop below from locals.
             const Block *const rows_coupling = coupling.data();
             const Block *const rows_inverse  = diagonal_inverse.data();
@@ -850,7 +859,16 @@ namespace softface
                   if (mine[neighbour[i]])
                     active.queue(neighbour[i]);
           };
+          // This rank's updates in the blocks of @p colours, recorded.
+          const auto record_updates =
+            [&](const std::vector<unsigned int> &blocks) {
+              unsigned int in_blocks = 0;
+              for (const unsigned int b : blocks)
+                in_blocks += block_updates[b];
+              colour_updates.record(in_blocks);
+            };
           const auto exchange_colour = [&](const unsigned int c) {
+            record_updates(colouring->colours[c]);
             moved_ghosts.clear();
             exchange->exchange(c, u, threshold, moved_ghosts);
             woke();
@@ -881,6 +899,7 @@ namespace softface
                   u[3 * current[q] + c] = jacobi_values[q][c];
               if (exchange)
                 {
+                  record_updates(all_blocks);
                   moved_ghosts.clear();
                   exchange->exchange_all(u, threshold, moved_ghosts);
                   woke();
@@ -1084,6 +1103,8 @@ namespace softface
           // busiest rank's share bounds what the ranks gain.
           add_detail("busiest rank's point updates",
                      Utilities::MPI::max(own_updates, communicator));
+          add_detail("slowest rank's point updates, colour by colour",
+                     colour_updates.slowest_sum(communicator));
         }
       add_detail("max gradient", last_report.max_gradient, "mm/sweep");
       if (verify)

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace softface
 {
@@ -222,5 +223,17 @@ namespace softface
                                     MPI_DOUBLE,
                                     communicator);
     AssertThrowMPI(ierr);
+  }
+
+  unsigned long long
+  ColourUpdates::slowest_sum(const MPI_Comm communicator) const
+  {
+    const unsigned long long n = counts.size();
+    AssertThrow(Utilities::MPI::max(n, communicator) ==
+                  Utilities::MPI::min(n, communicator),
+                ExcMessage("The ranks recorded different numbers of colours."));
+    std::vector<unsigned int> largest(counts.size());
+    Utilities::MPI::max(counts, communicator, largest);
+    return std::accumulate(largest.begin(), largest.end(), 0ULL);
   }
 } // namespace softface

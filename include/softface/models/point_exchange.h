@@ -167,6 +167,32 @@ namespace softface
   sum_over_ranks(const PointExchange *exchange, const unsigned long long local);
   double
   max_over_ranks(const PointExchange *exchange, const double local);
+
+  /**
+   * A rank's point updates colour by colour, sweep by sweep, for what the
+   * ranks can gain in their sweeps: each colour waits for the rank with the
+   * most updates in it, so the serial updates over the sum of those largest
+   * counts bound the gain, however evenly the total is shared.
+   */
+  class ColourUpdates
+  {
+  public:
+    /// This rank's updates in the colour just swept (or in the sweep, where
+    /// no exchange separates its colours).
+    void
+    record(const unsigned int updates)
+    {
+      counts.push_back(updates);
+    }
+
+    /// Over everything recorded, the sum of the largest count on any rank.
+    /// Collective; every rank must have recorded as often.
+    unsigned long long
+    slowest_sum(const MPI_Comm communicator) const;
+
+  private:
+    std::vector<unsigned int> counts;
+  };
 } // namespace softface
 
 #endif
