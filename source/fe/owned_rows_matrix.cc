@@ -34,7 +34,8 @@ namespace softface
       // deal.II makes its matrix from an Epetra matrix's graph and maps. A
       // View matrix on the graph holds no values; a Copy one allocated and
       // zeroed as many as the matrix has, only to free them (180 MB and
-      // 44 thousand page faults per rank at 2M tetrahedra).
+      // 44 thousand page faults per rank at 2M tetrahedra). So its values
+      // must not be copied (copy_values stays false).
       const Epetra_CrsMatrix shape(View, graph);
       matrix.reinit(shape, /*copy_values=*/false);
     }
@@ -53,6 +54,9 @@ namespace softface
   {
     AssertThrow(relevant_is_join.size() == relevant.n_elements(),
                 ExcInternalError());
+    // A row is read as a relevant DoF (its join flag, its column).
+    AssertThrow((owned & relevant).n_elements() == owned.n_elements(),
+                ExcMessage("The owned DoFs must be locally relevant."));
   }
 
   void

@@ -390,7 +390,8 @@ namespace softface
       // makes the serial updates (PointExchange): the answer does not
       // change.
       unsigned int rebalances = 0;
-      // This sweep's updates per block, for the ranks' colour by colour.
+      // This sweep's updates per block, for the ranks' updates colour by
+      // colour (ColourUpdates).
       std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
       ColourUpdates             colour_updates;
       std::vector<double> block_work(exchange && n_load_steps > 1 ? n_blocks :
@@ -550,10 +551,7 @@ namespace softface
               // next colour (PointExchange): the serial sweep. A ghost that
               // moved changed the force on its neighbours here.
               const auto exchange_colour = [&](const unsigned int c) {
-                unsigned int in_colour = 0;
-                for (const unsigned int b : colouring->colours[c])
-                  in_colour += block_updates[b];
-                colour_updates.record(in_colour);
+                colour_updates.record(colouring->colours[c], block_updates);
                 moved_ghosts.clear();
                 exchange->exchange(c, &x[0][0], moved_ghosts);
                 for (const unsigned int g : moved_ghosts)

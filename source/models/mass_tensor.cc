@@ -23,7 +23,6 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <sstream>
 
 namespace softface
@@ -710,13 +709,11 @@ namespace softface
       auto                   sweeps_phase = phase("sweeps");
       const unsigned int     n_blocks     = colouring->n_blocks();
       std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
-      // This sweep's updates per block, for the ranks' colour by colour
-      // (every block at once where no exchange separates the colours).
+      // This sweep's updates per block, for the ranks' updates colour by
+      // colour (ColourUpdates).
       std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
-      std::vector<unsigned int> all_blocks(exchange ? n_blocks : 0);
-      std::iota(all_blocks.begin(), all_blocks.end(), 0u);
-      ColourUpdates                          colour_updates;
-      std::vector<char>                      block_stopped(n_blocks);
+      ColourUpdates             colour_updates;
+      std::vector<char>         block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
@@ -859,16 +856,8 @@ namespace softface
                   if (mine[neighbour[i]])
                     active.queue(neighbour[i]);
           };
-          // This rank's updates in the blocks of @p colours, recorded.
-          const auto record_updates =
-            [&](const std::vector<unsigned int> &blocks) {
-              unsigned int in_blocks = 0;
-              for (const unsigned int b : blocks)
-                in_blocks += block_updates[b];
-              colour_updates.record(in_blocks);
-            };
           const auto exchange_colour = [&](const unsigned int c) {
-            record_updates(colouring->colours[c]);
+            colour_updates.record(colouring->colours[c], block_updates);
             moved_ghosts.clear();
             exchange->exchange(c, u, threshold, moved_ghosts);
             woke();
@@ -899,7 +888,8 @@ namespace softface
                   u[3 * current[q] + c] = jacobi_values[q][c];
               if (exchange)
                 {
-                  record_updates(all_blocks);
+                  // No exchange between the colours: the sweep at once.
+                  colour_updates.record(current.size());
                   moved_ghosts.clear();
                   exchange->exchange_all(u, threshold, moved_ghosts);
                   woke();

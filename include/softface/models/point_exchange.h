@@ -185,6 +185,12 @@ namespace softface
       counts.push_back(updates);
     }
 
+    /// The same, summed over the colour's @p blocks from each block's
+    /// updates in this sweep.
+    void
+    record(const std::vector<unsigned int> &blocks,
+           const std::vector<unsigned int> &block_updates);
+
     /// Over everything recorded, the sum of the largest count on any rank.
     /// Collective; every rank must have recorded as often.
     unsigned long long
