@@ -15,11 +15,17 @@
 //   distributed triangulation built from the same description, in the same
 //   order, with the same owners and vertices, and its lookup answers each
 //   cell's index, with the table and with the binary search kept for
-//   scattered ids, also on a rank without cells.
+//   scattered ids, also on a rank without cells;
+// - each rank's part, described from the mesh without a copy of it (by any
+//   rank), equals deal.II's description of it, and the cells' ranks are
+//   those of deal.II's partition (GridTools::partition_triangulation() with
+//   METIS, the cell order's ranges).
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/sparsity_tools.h>
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <softface/core/distributed_layout.h>
@@ -42,6 +48,26 @@ namespace
   field(const Point<3> &x, const unsigned int component)
   {
     return x[0] + 2. * x[1] + 3. * x[2] + 1000. * component;
+  }
+
+  /// @p description with the manifold ids of the lines and faces a
+  /// tetrahedron does not have set alike: deal.II leaves them uninitialised
+  /// (its arrays are a hexahedron's), so that equal descriptions would
+  /// compare unequal.
+  TriangulationDescription::Description<3, 3>
+  tetrahedra_only(TriangulationDescription::Description<3, 3> description)
+  {
+    for (auto &level : description.cell_infos)
+      for (auto &cell : level)
+        {
+          std::fill(cell.manifold_line_ids.begin() + 6,
+                    cell.manifold_line_ids.end(),
+                    numbers::flat_manifold_id);
+          std::fill(cell.manifold_quad_ids.begin() + 4,
+                    cell.manifold_quad_ids.end(),
+                    numbers::flat_manifold_id);
+        }
+    return description;
   }
 
   /// Each of @p ours against deal.II's own fully distributed triangulation
@@ -235,6 +261,42 @@ namespace
         cell->set_subdomain_id(owner[cell->active_cell_index()]);
       const auto description = TriangulationDescription::Utilities::
         create_description_from_triangulation(partitioned, comm);
+
+      // The layout's part of every rank, as any rank describes it from the
+      // mesh without a copy, is deal.II's description of it.
+      std::vector<types::subdomain_id> owners(owner.begin(), owner.end());
+      unsigned int                     unlike_dealii = 0;
+      for (unsigned int r = 0; r < n_ranks; ++r)
+        unlike_dealii +=
+          !(tetrahedra_only(
+              describe_part(scene.triangulation, owners, r, comm)) ==
+            tetrahedra_only(
+              TriangulationDescription::Utilities::
+                create_description_from_triangulation(
+                  partitioned,
+                  comm,
+                  TriangulationDescription::Settings::default_setting,
+                  r)));
+      check_equal("  parts described unlike deal.II's description",
+                  Utilities::MPI::sum(unlike_dealii, comm),
+                  0);
+      // The owners are those of deal.II's partition of the whole mesh
+      // (METIS on its face graph, or the cell order's ranges).
+      if (partitioner == DistributedLayout::Partitioner::metis)
+        GridTools::partition_triangulation(n_ranks,
+                                           partitioned,
+                                           SparsityTools::Partitioner::metis);
+      else
+        for (const auto &cell : partitioned.active_cell_iterators())
+          cell->set_subdomain_id(cell->active_cell_index() * n_ranks /
+                                 partitioned.n_active_cells());
+      unsigned int other_owner = 0;
+      for (const auto &cell : partitioned.active_cell_iterators())
+        other_owner += cell->subdomain_id() != owner[cell->active_cell_index()];
+      check_equal("  cells whose rank is not deal.II's partition's",
+                  other_owner,
+                  0);
+
       parallel::fullydistributed::Triangulation<3> reference(comm);
       reference.create_triangulation(description);
       DistributedTriangulation searched(comm, /*allow_table=*/false);

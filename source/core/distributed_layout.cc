@@ -1,12 +1,15 @@
 // The scene's layout on several MPI ranks (issue 20, a first step): the
-// serial mesh partitioned, a fully distributed triangulation and DoFHandler
-// per rank, and the map from its DoFs to the scene's, through which the
-// serial decisions (join points) and vectors reach the ranks and answers come
-// back. See core/distributed_layout.h.
+// serial mesh partitioned, each rank's part described from the mesh's cells
+// at its own (no copy of the mesh), a fully distributed triangulation and
+// DoFHandler per rank, and the map from its DoFs to the scene's, through which
+// the serial decisions (join points) and vectors reach the ranks and answers
+// come back. See core/distributed_layout.h.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+#include <deal.II/lac/sparsity_pattern.h>
 #include <deal.II/lac/sparsity_tools.h>
 
 #include <softface/core/distributed_layout.h>
@@ -134,6 +137,123 @@ namespace softface
     return *layout;
   }
 
+  std::vector<types::subdomain_id>
+  cell_owners(const Triangulation<3>              &mesh,
+              const MPI_Comm                       communicator,
+              const DistributedLayout::Partitioner partitioner)
+  {
+    const unsigned int  n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const std::uint64_t n_cells = mesh.n_active_cells();
+    std::vector<types::subdomain_id> owner(n_cells, 0);
+    if (n_ranks == 1)
+      return owner;
+    if (partitioner == DistributedLayout::Partitioner::metis)
+      {
+        // METIS on rank 0 only, its owners sent to all: every rank must
+        // build its part from the same partition. The graph is the one
+        // GridTools::partition_triangulation() gives METIS, without the copy
+        // of the mesh whose subdomain ids it would set.
+        if (Utilities::MPI::this_mpi_process(communicator) == 0)
+          {
+            SparsityPattern faces;
+            {
+              DynamicSparsityPattern dynamic;
+              GridTools::get_face_connectivity_of_cells(mesh, dynamic);
+              faces.copy_from(dynamic);
+            }
+            std::vector<unsigned int> parts(n_cells);
+            SparsityTools::partition(faces,
+                                     n_ranks,
+                                     parts,
+                                     SparsityTools::Partitioner::metis);
+            owner.assign(parts.begin(), parts.end());
+          }
+        return Utilities::MPI::broadcast(communicator, owner);
+      }
+    for (std::uint64_t c = 0; c < n_cells; ++c)
+      owner[c] = static_cast<types::subdomain_id>(c * n_ranks / n_cells);
+    return owner;
+  }
+
+  TriangulationDescription::Description<3, 3>
+  describe_part(const Triangulation<3>                 &mesh,
+                const std::vector<types::subdomain_id> &owner,
+                const types::subdomain_id               rank,
+                const MPI_Comm                          communicator)
+  {
+    AssertThrow(mesh.n_levels() == 1 && owner.size() == mesh.n_active_cells(),
+                ExcMessage("describe_part() takes an unrefined mesh and one "
+                           "owner per cell."));
+    TriangulationDescription::Description<3, 3> part;
+    part.comm      = communicator;
+    part.smoothing = mesh.get_mesh_smoothing();
+    part.settings  = TriangulationDescription::Settings::default_setting;
+    part.cell_infos.resize(1);
+
+    // The rank's cells and the cells that share a vertex with one of them
+    // (its ghosts), as deal.II takes them. softface's meshes have no
+    // periodic faces, so no vertices coincide.
+    std::vector<bool> at_own_cell(mesh.n_vertices(), false);
+    for (const auto &cell : mesh.active_cell_iterators())
+      if (owner[cell->active_cell_index()] == rank)
+        for (const unsigned int v : cell->vertex_indices())
+          at_own_cell[cell->vertex_index(v)] = true;
+
+    std::vector<bool> relevant_vertex(mesh.n_vertices(), false);
+    for (const auto &cell : mesh.active_cell_iterators())
+      {
+        bool relevant = false;
+        for (const unsigned int v : cell->vertex_indices())
+          relevant = relevant || at_own_cell[cell->vertex_index(v)];
+        if (!relevant)
+          continue;
+
+        CellData<3> coarse(cell->n_vertices());
+        coarse.material_id = cell->material_id();
+        coarse.manifold_id = cell->manifold_id();
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            coarse.vertices[v]                     = cell->vertex_index(v);
+            relevant_vertex[cell->vertex_index(v)] = true;
+          }
+        part.coarse_cells.push_back(std::move(coarse));
+        part.coarse_cell_index_to_coarse_cell_id.push_back(
+          cell->id().get_coarse_cell_id());
+
+        TriangulationDescription::CellData<3> info;
+        info.id = cell->id().template to_binary<3>();
+        for (const unsigned int f : cell->face_indices())
+          if (const types::boundary_id b = cell->face(f)->boundary_id();
+              b != numbers::internal_face_boundary_id)
+            info.boundary_ids.emplace_back(f, b);
+        info.manifold_id = cell->manifold_id();
+        // A hexahedron's arrays: a tetrahedron fills the first 6 and 4.
+        info.manifold_line_ids.fill(numbers::flat_manifold_id);
+        info.manifold_quad_ids.fill(numbers::flat_manifold_id);
+        for (const unsigned int l : cell->line_indices())
+          info.manifold_line_ids[l] = cell->line(l)->manifold_id();
+        for (const unsigned int f : cell->face_indices())
+          info.manifold_quad_ids[f] = cell->quad(f)->manifold_id();
+        info.subdomain_id       = owner[cell->active_cell_index()];
+        info.level_subdomain_id = cell->level_subdomain_id();
+        part.cell_infos[0].push_back(std::move(info));
+      }
+
+    // The relevant vertices in the mesh's order, numbered from 0.
+    std::vector<unsigned int> local_index(mesh.n_vertices(),
+                                          numbers::invalid_unsigned_int);
+    for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
+      if (relevant_vertex[v])
+        {
+          local_index[v] = part.coarse_cell_vertices.size();
+          part.coarse_cell_vertices.push_back(mesh.get_vertices()[v]);
+        }
+    for (auto &cell : part.coarse_cells)
+      for (auto &v : cell.vertices)
+        v = local_index[v];
+    return part;
+  }
+
   DistributedLayout::DistributedLayout(const Scene      &scene,
                                        const MPI_Comm    communicator,
                                        const Partitioner partitioner)
@@ -141,42 +261,18 @@ namespace softface
       , communicator(communicator)
       , triangulation(communicator)
   {
-    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
     // A coarse cell id is the serial cell's active index only on an
     // unrefined mesh (softface's meshes are).
     AssertThrow(scene.triangulation.n_levels() == 1,
                 ExcMessage("A refined mesh cannot be distributed yet."));
 
-    // A copy of the serial mesh whose subdomain ids name each cell's rank:
-    // the scene's own mesh stays as the serial models use it.
-    Triangulation<3> partitioned;
-    partitioned.copy_triangulation(scene.triangulation);
-    if (partitioner == Partitioner::metis && n_ranks > 1)
-      {
-        // METIS on rank 0 only, its owners sent to all: every rank must
-        // build its description from the same partition.
-        std::vector<unsigned int> owner(partitioned.n_active_cells());
-        if (Utilities::MPI::this_mpi_process(communicator) == 0)
-          {
-            GridTools::partition_triangulation(
-              n_ranks, partitioned, SparsityTools::Partitioner::metis);
-            for (const auto &cell : partitioned.active_cell_iterators())
-              owner[cell->active_cell_index()] = cell->subdomain_id();
-          }
-        owner = Utilities::MPI::broadcast(communicator, owner);
-        for (const auto &cell : partitioned.active_cell_iterators())
-          cell->set_subdomain_id(owner[cell->active_cell_index()]);
-      }
-    else
-      {
-        const std::uint64_t n_cells = partitioned.n_active_cells();
-        for (const auto &cell : partitioned.active_cell_iterators())
-          cell->set_subdomain_id(static_cast<types::subdomain_id>(
-            std::uint64_t(cell->active_cell_index()) * n_ranks / n_cells));
-      }
+    const std::vector<types::subdomain_id> owner =
+      cell_owners(scene.triangulation, communicator, partitioner);
     triangulation.create_triangulation(
-      TriangulationDescription::Utilities::
-        create_description_from_triangulation(partitioned, communicator));
+      describe_part(scene.triangulation,
+                    owner,
+                    Utilities::MPI::this_mpi_process(communicator),
+                    communicator));
 
     dof_handler.reinit(triangulation);
     dof_handler.distribute_dofs(scene.fe);

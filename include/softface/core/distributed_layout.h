@@ -6,6 +6,7 @@
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/distributed/fully_distributed_tria.h>
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/grid/tria_description.h>
 #include <deal.II/lac/trilinos_vector.h>
 #include <deal.II/lac/vector.h>
 
@@ -70,9 +71,11 @@ namespace softface
    * The scene's P1 layout on the ranks of an MPI communicator (issue 20, a
    * first step). Every rank holds the whole scene as a serial run does (its
    * mesh, segments, join points and effects); the cells are partitioned among
-   * the ranks, and each rank builds a parallel::fullydistributed::Triangulation
-   * of its cells and their ghosts (simplex meshes need the fully distributed
-   * kind) and a DoFHandler with the scene's element on it.
+   * the ranks (cell_owners()), and each rank builds a
+   * parallel::fullydistributed::Triangulation of its cells and their ghosts
+   * (simplex meshes need the fully distributed kind), described from the
+   * scene's mesh without a copy of it (describe_part()), and a DoFHandler
+   * with the scene's element on it.
    *
    * Each locally relevant DoF knows the scene's DoF of the same vertex and
    * component (serial_dof()). So what the scene decided per vertex is read
@@ -160,6 +163,32 @@ namespace softface
     /// locally_relevant_dofs.
     std::vector<types::global_dof_index> serial_dof_of_relevant;
   };
+
+  /**
+   * Each cell's rank (by active cell index) for the @p partitioner of
+   * DistributedLayout on the ranks of @p communicator; METIS gets the face
+   * graph GridTools::partition_triangulation() gives it, and its answer is
+   * made on rank 0 and sent to all. Collective.
+   */
+  std::vector<types::subdomain_id>
+  cell_owners(const Triangulation<3>              &mesh,
+              const MPI_Comm                       communicator,
+              const DistributedLayout::Partitioner partitioner);
+
+  /**
+   * The part of the unrefined @p mesh that rank @p rank holds, owned by
+   * @p owner (one rank per cell): its cells and those sharing a vertex with
+   * them, as deal.II's create_description_from_triangulation() describes
+   * them from a copy of the mesh whose subdomain ids are @p owner. It reads
+   * the mesh without copying it: a copy holds as much memory as the mesh
+   * (330 MB at 2M tetrahedra), on every rank. Any rank may describe any
+   * rank's part, as a group's root does for its group.
+   */
+  TriangulationDescription::Description<3, 3>
+  describe_part(const Triangulation<3>                 &mesh,
+                const std::vector<types::subdomain_id> &owner,
+                const types::subdomain_id               rank,
+                const MPI_Comm                          communicator);
 
   /**
    * The scene's DistributedLayout for every model of a run: built when the
