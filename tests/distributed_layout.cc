@@ -4,7 +4,8 @@
 // mesh, with both partitioners:
 // - every serial DoF is owned by exactly one rank, and a rank's DoF sits at
 //   the vertex of the serial DoF it maps to (its component too);
-// - join points decided per owned DoF give the serial counts per segment
+// - join points decided per owned vertex on the ranks are the serial ones,
+//   at every locally relevant DoF, and give the serial counts per segment
 //   (the cube's slabs on 3 ranks: the inner bone on the middle rank only, the
 //   other two own none of its join points);
 // - scatter and gather of a serial field give it back exactly, and a field
@@ -203,7 +204,8 @@ namespace
     std::vector<unsigned int> vertex_of_dof(n_dofs);
     for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
       if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
-        vertex_of_dof[scene.vertex_dofs()[v][0]] = v;
+        for (const auto dof : scene.vertex_dofs()[v])
+          vertex_of_dof[dof] = v;
     const unsigned int        n_segments = scene.segments.size();
     std::vector<unsigned int> mine(n_segments, 0);
     unsigned int              join_dofs = 0;
@@ -215,6 +217,19 @@ namespace
           if (serial % 3 == 0)
             ++mine[scene.vertex_segment()[vertex_of_dof[serial]]];
         }
+    // Every locally relevant DoF, owned or ghost, has the segment of the
+    // serial vertex it maps to.
+    unsigned int other_segment = 0;
+    for (const auto dof : layout.locally_relevant_dofs)
+      other_segment +=
+        layout.join_segment_of_dof(dof) !=
+        scene.vertex_segment()[vertex_of_dof[layout.serial_dof(dof)]];
+    check_equal("  relevant DoFs whose segment is not the serial vertex's",
+                Utilities::MPI::sum(other_segment, comm),
+                0);
+    check_equal("  vertices touching two segments' bone, on all ranks",
+                Utilities::MPI::sum(layout.n_owned_shared_join_points(), comm),
+                scene.n_shared_join_points);
     check_equal("  join DoFs on all ranks",
                 Utilities::MPI::sum(join_dofs, comm),
                 std::count(scene.join_dofs().begin(),
@@ -350,6 +365,27 @@ SOFTFACE_TEST(distributed_layout)
   // printed.
   check_layout("generated cube, metis", cube, Partitioner::metis, false);
   check_rank_without_cells(cube);
+
+  // Segments that share vertices, as a patient's cuts leave them: the cube's
+  // upper half is a third segment, and its vertices on the held faces and at
+  // the inner bone touch two segments' bone and are left free.
+  Scene shared;
+  {
+    Mesh::CubeParameters parameters;
+    parameters.target_n_tetrahedra = 3000;
+    parameters.upper_material_id   = 7;
+    Mesh::generate_cube(parameters, shared.triangulation);
+    shared.mesh_description = "generated cube";
+    shared.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                               {"bone", {Mesh::cube_inner_id}, {}, {}},
+                               {"upper half", {7}, {}, {}}};
+    shared.resolve_shared_join_points = true;
+    shared.setup();
+  }
+  check_layout("generated cube, segments sharing vertices, metis",
+               shared,
+               Partitioner::metis,
+               false);
 
   ParameterHandler prm;
   Scene            gmsh;

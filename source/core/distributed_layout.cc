@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <map>
 
 namespace softface
 {
@@ -298,6 +299,8 @@ namespace softface
               serial_dof_of_relevant[locally_relevant_dofs.index_within_set(
                 cell->vertex_dof_index(v, c))] = serial->vertex_dof_index(v, c);
         }
+
+    decide_join_points(scene.segments, scene.resolve_shared_join_points);
   }
 
   types::global_dof_index
@@ -342,10 +345,87 @@ namespace softface
         }
   }
 
+  void
+  DistributedLayout::decide_join_points(
+    const std::vector<BoneSegment> &segments,
+    const bool                      resolve_shared_join_points)
+  {
+    const unsigned int free = numbers::invalid_unsigned_int;
+    std::vector<std::map<unsigned int, unsigned int>> claims(
+      triangulation.n_vertices());
+    for (const auto &cell : triangulation.active_cell_iterators())
+      if (!cell->is_artificial())
+        add_segment_claims(segments, cell, claims);
+
+    // The owner's answer, sent to the ranks that hold the vertex as a ghost
+    // through a ghosted vector (segment + 1, 0 for free: exact in doubles).
+    TrilinosWrappers::MPI::Vector owned(locally_owned_dofs, communicator);
+    owned_shared_join_points = 0;
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (cell->is_locally_owned())
+        for (const unsigned int v : cell->vertex_indices())
+          {
+            const auto first = cell->vertex_dof_index(v, 0);
+            if (!locally_owned_dofs.is_element(first) || owned[first] != 0.)
+              continue;
+            const auto &c = claims[cell->vertex_index(v)];
+            if (c.size() > 1)
+              {
+                // The scene refuses this before a layout is made; a rank
+                // that decides alone must too.
+                AssertThrow(resolve_shared_join_points,
+                            ExcMessage(
+                              "The vertex at (" +
+                              Utilities::to_string(cell->vertex(v)[0]) + ", " +
+                              Utilities::to_string(cell->vertex(v)[1]) + ", " +
+                              Utilities::to_string(cell->vertex(v)[2]) +
+                              ") touches two bone segments."));
+                ++owned_shared_join_points;
+              }
+            // A free vertex is marked as decided with -1.
+            const unsigned int segment = join_segment(c);
+            for (unsigned int i = 0; i < 3; ++i)
+              owned[cell->vertex_dof_index(v, i)] =
+                segment == free ? -1. : segment + 1.;
+          }
+    owned.compress(VectorOperation::insert);
+    TrilinosWrappers::MPI::Vector relevant(locally_owned_dofs,
+                                           locally_relevant_dofs,
+                                           communicator);
+    relevant = owned;
+
+    join_segment_of_relevant.assign(locally_relevant_dofs.n_elements(), free);
+    unsigned int k = 0;
+    for (const auto dof : locally_relevant_dofs)
+      {
+        const double value = relevant[dof];
+        AssertThrow(value != 0., ExcMessage("A DoF whose owner decided none."));
+        join_segment_of_relevant[k++] =
+          value < 0. ? free : static_cast<unsigned int>(value) - 1;
+      }
+  }
+
+  unsigned int
+  DistributedLayout::join_segment_of_dof(
+    const types::global_dof_index dof) const
+  {
+    AssertThrow(locally_relevant_dofs.is_element(dof),
+                ExcMessage("DoF " + std::to_string(dof) +
+                           " is not locally relevant on this rank."));
+    return join_segment_of_relevant[locally_relevant_dofs.index_within_set(
+      dof)];
+  }
+
   bool
   DistributedLayout::is_join_dof(const types::global_dof_index dof) const
   {
-    return scene.join_dofs()[serial_dof(dof)];
+    return join_segment_of_dof(dof) != numbers::invalid_unsigned_int;
+  }
+
+  unsigned int
+  DistributedLayout::n_owned_shared_join_points() const
+  {
+    return owned_shared_join_points;
   }
 
   void

@@ -293,6 +293,24 @@ namespace softface
   }
 
   void
+  add_segment_claims(const std::vector<BoneSegment>               &segments,
+                     const Triangulation<3>::active_cell_iterator &cell,
+                     std::vector<std::map<unsigned int, unsigned int>> &claims)
+  {
+    for (unsigned int s = 0; s < segments.size(); ++s)
+      {
+        if (segments[s].material_ids.count(cell->material_id()))
+          for (const unsigned int v : cell->vertex_indices())
+            ++claims[cell->vertex_index(v)][s];
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary() &&
+              segments[s].boundary_ids.count(face->boundary_id()))
+            for (const unsigned int v : face->vertex_indices())
+              ++claims[face->vertex_index(v)][s];
+      }
+  }
+
+  void
   Scene::find_join_points()
   {
     const unsigned int free = numbers::invalid_unsigned_int;
@@ -303,18 +321,8 @@ namespace softface
     // How many of a vertex's bone cells and faces belong to each segment.
     std::vector<std::map<unsigned int, unsigned int>> claims(
       triangulation.n_vertices());
-    for (unsigned int s = 0; s < segments.size(); ++s)
-      for (const auto &cell : triangulation.active_cell_iterators())
-        {
-          if (segments[s].material_ids.count(cell->material_id()))
-            for (const unsigned int v : cell->vertex_indices())
-              ++claims[cell->vertex_index(v)][s];
-          for (const auto &face : cell->face_iterators())
-            if (face->at_boundary() &&
-                segments[s].boundary_ids.count(face->boundary_id()))
-              for (const unsigned int v : face->vertex_indices())
-                ++claims[face->vertex_index(v)][s];
-        }
+    for (const auto &cell : triangulation.active_cell_iterators())
+      add_segment_claims(segments, cell, claims);
 
     for (unsigned int vertex = 0; vertex < claims.size(); ++vertex)
       {
@@ -340,8 +348,8 @@ namespace softface
             ++n_shared_join_points;
             continue;
           }
-        segment_of_vertex[vertex] = c.begin()->first;
-        ++n_joins_of_segment[c.begin()->first];
+        segment_of_vertex[vertex] = join_segment(c);
+        ++n_joins_of_segment[segment_of_vertex[vertex]];
       }
     for (unsigned int s = 0; s < segments.size(); ++s)
       if (n_joins_of_segment[s] == 0 && !segments[s].carries_contact_only)

@@ -77,9 +77,10 @@ namespace softface
    * scene's mesh without a copy of it (describe_part()), and a DoFHandler
    * with the scene's element on it.
    *
-   * Each locally relevant DoF knows the scene's DoF of the same vertex and
-   * component (serial_dof()). So what the scene decided per vertex is read
-   * per locally owned DoF with exactly the serial answer (is_join_dof()), a
+   * Each rank decides which of its vertices are join points, and of which
+   * segment, from its own cells (is_join_dof(), the serial answer). Each
+   * locally relevant DoF knows the scene's DoF of the same vertex and
+   * component (serial_dof()): a
    * serial vector gives the owned entries of a distributed one (scatter())
    * and a distributed answer comes back as the serial vector the reports and
    * outputs use (gather()).
@@ -137,10 +138,20 @@ namespace softface
     cells_at_owned_dofs(std::vector<DoFHandler<3>::active_cell_iterator> &cells,
                         std::vector<types::global_dof_index> &cell_dofs) const;
 
-    /// Is the locally relevant @p dof a join point's DoF (the scene's
-    /// decision for its vertex)?
+    /// The bone segment whose join point the vertex of the locally relevant
+    /// @p dof is, or numbers::invalid_unsigned_int if it is free: decided
+    /// on the rank that owns it (decide_join_points()).
+    unsigned int
+    join_segment_of_dof(const types::global_dof_index dof) const;
+
+    /// Is the locally relevant @p dof a join point's DoF?
     bool
     is_join_dof(const types::global_dof_index dof) const;
+
+    /// The vertices this rank owns that touch two segments' bone (left free,
+    /// as the scene's Scene::resolve_shared_join_points allows).
+    unsigned int
+    n_owned_shared_join_points() const;
 
     /// The owned entries of @p distributed from the serial vector @p serial.
     void
@@ -159,9 +170,23 @@ namespace softface
     IndexSet                 locally_relevant_dofs;
 
   private:
+    /**
+     * Each locally owned vertex's segment, from the cells and boundary faces
+     * around it by the scene's rule (add_segment_claims()): a rank holds them
+     * all, its own cells and their ghosts, so its answer is the serial one.
+     * A ghost vertex may lack some of its cells here, so it takes the answer
+     * of the rank that owns it. Collective.
+     */
+    void
+    decide_join_points(const std::vector<BoneSegment> &segments,
+                       const bool resolve_shared_join_points);
+
     /// serial_dof() of each locally relevant DoF, by its place in
     /// locally_relevant_dofs.
     std::vector<types::global_dof_index> serial_dof_of_relevant;
+    /// join_segment_of_dof() of each locally relevant DoF, by its place.
+    std::vector<unsigned int> join_segment_of_relevant;
+    unsigned int              owned_shared_join_points = 0;
   };
 
   /**

@@ -13,6 +13,7 @@
 #include <softface/core/mesh.h>
 
 #include <array>
+#include <map>
 #include <ostream>
 #include <set>
 #include <string>
@@ -43,6 +44,29 @@ namespace softface
     /// centre): an effect that later frees some of them does not move it.
     std::vector<double> join_centroid = {};
   };
+
+  /**
+   * The bone segments that claim the vertices of @p cell (seed 3.3), added to
+   * @p claims by the cell's vertex indices: a segment whose material ids
+   * hold the cell's claims its four vertices, one whose boundary ids hold a
+   * boundary face's claims that face's three, once per cell or face. A
+   * vertex claimed by exactly one segment is its join point; by several, it
+   * touches two segments' bone (join_segment()).
+   */
+  void
+  add_segment_claims(const std::vector<BoneSegment>               &segments,
+                     const Triangulation<3>::active_cell_iterator &cell,
+                     std::vector<std::map<unsigned int, unsigned int>> &claims);
+
+  /// The segment of a vertex with @p claims, or numbers::invalid_unsigned_int
+  /// if it is free: claimed by none, or by several (a vertex that touches
+  /// two segments' bone, which the caller refuses or leaves free).
+  inline unsigned int
+  join_segment(const std::map<unsigned int, unsigned int> &claims)
+  {
+    return claims.size() == 1 ? claims.begin()->first :
+                                numbers::invalid_unsigned_int;
+  }
 
   /**
    * A constraint on a free vertex (effects: sliding contact, separated
