@@ -69,10 +69,10 @@ namespace
               return static_cast<unsigned long long>(detail.value);
           throw std::runtime_error("no figure '" + name + "'");
         };
-        ranks_updates = {figure(
-                           "slowest rank's point updates, colour by colour"),
-                         figure("busiest rank's point updates"),
-                         figure("point updates")};
+        ranks_updates = {
+          {figure("slowest rank's point updates, colour by colour"),
+           figure("busiest rank's point updates"),
+           figure("point updates")}};
       }
     return u;
   }

@@ -4,6 +4,7 @@
 #include <softface/models/block_colouring.h>
 
 #include <algorithm>
+#include <numeric>
 
 namespace softface
 {
@@ -50,21 +51,28 @@ namespace softface
   BlockColouring::sweep(
     const std::vector<unsigned int>                                   &points,
     const std::function<void(unsigned int, std::size_t, std::size_t)> &update,
-    const std::function<void(unsigned int)> &after_colour) const
+    const std::function<void(unsigned int, std::size_t)> &after_colour) const
   {
+    // Each block's points, written by its task.
+    std::vector<std::size_t> n_updated;
     for (unsigned int c = 0; c < colours.size(); ++c)
       {
         const auto &blocks = colours[c];
+        n_updated.assign(blocks.size(), 0);
         Threads::run_tasks(blocks.size(), [&](const unsigned int k) {
           const unsigned int b = blocks[k];
           const auto         begin =
             std::lower_bound(points.begin(), points.end(), block_start[b]);
           const auto end =
             std::lower_bound(begin, points.end(), block_start[b + 1]);
+          n_updated[k] = end - begin;
           update(b, begin - points.begin(), end - points.begin());
         });
         if (after_colour)
-          after_colour(c);
+          after_colour(c,
+                       std::accumulate(n_updated.begin(),
+                                       n_updated.end(),
+                                       std::size_t(0)));
       }
   }
 } // namespace softface

@@ -390,10 +390,8 @@ namespace softface
       // makes the serial updates (PointExchange): the answer does not
       // change.
       unsigned int rebalances = 0;
-      // This sweep's updates per block, for the ranks' updates colour by
-      // colour (ColourUpdates).
-      std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
-      ColourUpdates             colour_updates;
+      // The ranks' updates colour by colour.
+      ColourUpdates       colour_updates;
       std::vector<double> block_work(exchange && n_load_steps > 1 ? n_blocks :
                                                                     0,
                                      0.);
@@ -466,8 +464,6 @@ namespace softface
                 std::vector<unsigned int> &queued = block_queued[b];
                 if (!block_work.empty())
                   block_work[b] += end - begin;
-                if (!block_updates.empty())
-                  block_updates[b] = end - begin;
                 for (std::size_t q = begin; q < end; ++q)
                   {
                     const unsigned int j = (*current)[q];
@@ -550,8 +546,9 @@ namespace softface
               // On several ranks each colour's moves travel before the
               // next colour (PointExchange): the serial sweep. A ghost that
               // moved changed the force on its neighbours here.
-              const auto exchange_colour = [&](const unsigned int c) {
-                colour_updates.record(colouring->colours[c], block_updates);
+              const auto exchange_colour = [&](const unsigned int c,
+                                               const std::size_t  n_updated) {
+                colour_updates.record(n_updated);
                 moved_ghosts.clear();
                 exchange->exchange(c, &x[0][0], moved_ghosts);
                 for (const unsigned int g : moved_ghosts)
@@ -559,11 +556,12 @@ namespace softface
                     if (mine[other_end[i]])
                       active.queue(other_end[i]);
               };
-              colouring->sweep(*current,
-                               block_update,
-                               exchange ? std::function<void(unsigned int)>(
-                                            exchange_colour) :
-                                          std::function<void(unsigned int)>());
+              colouring->sweep(
+                *current,
+                block_update,
+                exchange ? std::function<void(unsigned int, std::size_t)>(
+                             exchange_colour) :
+                           std::function<void(unsigned int, std::size_t)>());
               bool any_not_finite =
                 std::find(not_finite.begin(), not_finite.end(), 1) !=
                 not_finite.end();

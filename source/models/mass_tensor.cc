@@ -709,11 +709,9 @@ namespace softface
       auto                   sweeps_phase = phase("sweeps");
       const unsigned int     n_blocks     = colouring->n_blocks();
       std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
-      // This sweep's updates per block, for the ranks' updates colour by
-      // colour (ColourUpdates).
-      std::vector<unsigned int> block_updates(exchange ? n_blocks : 0);
-      ColourUpdates             colour_updates;
-      std::vector<char>         block_stopped(n_blocks);
+      // The ranks' updates colour by colour.
+      ColourUpdates                          colour_updates;
+      std::vector<char>                      block_stopped(n_blocks);
       std::vector<std::vector<unsigned int>> block_queued(n_blocks);
       while (!done)
         {
@@ -756,8 +754,6 @@ namespace softface
                                         const std::size_t  q_end) {
             double                    &largest_change = block_largest[b];
             std::vector<unsigned int> &queued         = block_queued[b];
-            if (!block_updates.empty())
-              block_updates[b] = q_end - q_begin;
             // This rank's rows, read in the loop below from locals.
             const Block *const rows_coupling = coupling.data();
             const Block *const rows_inverse  = diagonal_inverse.data();
@@ -856,8 +852,9 @@ namespace softface
                   if (mine[neighbour[i]])
                     active.queue(neighbour[i]);
           };
-          const auto exchange_colour = [&](const unsigned int c) {
-            colour_updates.record(colouring->colours[c], block_updates);
+          const auto exchange_colour = [&](const unsigned int c,
+                                           const std::size_t  n_updated) {
+            colour_updates.record(n_updated);
             moved_ghosts.clear();
             exchange->exchange(c, u, threshold, moved_ghosts);
             woke();
@@ -865,9 +862,9 @@ namespace softface
           colouring->sweep(current,
                            block_update,
                            exchange && gauss_seidel ?
-                             std::function<void(unsigned int)>(
+                             std::function<void(unsigned int, std::size_t)>(
                                exchange_colour) :
-                             std::function<void(unsigned int)>());
+                             std::function<void(unsigned int, std::size_t)>());
           // The blocks' results folded into the sweep's.
           for (unsigned int b = 0; b < n_blocks; ++b)
             {

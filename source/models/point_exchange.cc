@@ -225,16 +225,6 @@ namespace softface
     AssertThrowMPI(ierr);
   }
 
-  void
-  ColourUpdates::record(const std::vector<unsigned int> &blocks,
-                        const std::vector<unsigned int> &block_updates)
-  {
-    unsigned int in_colour = 0;
-    for (const unsigned int b : blocks)
-      in_colour += block_updates[b];
-    record(in_colour);
-  }
-
   unsigned long long
   ColourUpdates::slowest_sum(const MPI_Comm communicator) const
   {

@@ -45,14 +45,16 @@ namespace softface
      * One sweep over @p points (ascending): @p update(b, begin, end) for
      * every block b, with points[begin..end) the ones in b; the blocks of a
      * colour on the threads at once, the colours in turn, and
-     * @p after_colour(c), if given, once the blocks of colour c are done
-     * (on several MPI ranks: the exchange of PointExchange).
+     * @p after_colour(c, n), if given, once the blocks of colour c are done,
+     * with n the points they updated (on several MPI ranks: the exchange of
+     * PointExchange, and ColourUpdates).
      */
     void
     sweep(
       const std::vector<unsigned int>                                   &points,
       const std::function<void(unsigned int, std::size_t, std::size_t)> &update,
-      const std::function<void(unsigned int)> &after_colour = {}) const;
+      const std::function<void(unsigned int, std::size_t)> &after_colour = {})
+      const;
 
     /// Block b holds the points block_start[b] .. block_start[b+1]-1.
     std::vector<unsigned int> block_start;

@@ -180,16 +180,10 @@ namespace softface
     /// This rank's updates in the colour just swept (or in the sweep, where
     /// no exchange separates its colours).
     void
-    record(const unsigned int updates)
+    record(const std::size_t updates)
     {
-      counts.push_back(updates);
+      counts.push_back(static_cast<unsigned int>(updates));
     }
-
-    /// The same, summed over the colour's @p blocks from each block's
-    /// updates in this sweep.
-    void
-    record(const std::vector<unsigned int> &blocks,
-           const std::vector<unsigned int> &block_updates);
 
     /// Over everything recorded, the sum of the largest count on any rank.
     /// Collective; every rank must have recorded as often.
