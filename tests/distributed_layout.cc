@@ -17,6 +17,8 @@
 //   order, with the same owners and vertices, and its lookup answers each
 //   cell's index, with the table and with the binary search kept for
 //   scattered ids, also on a rank without cells;
+// - a vertex touching two segments is refused on every rank with one
+//   message where the scene does not leave it free;
 // - each rank's part, described from the mesh without a copy of it (by any
 //   rank), equals deal.II's description of it, and the cells' ranks are
 //   those of deal.II's partition (GridTools::partition_triangulation() with
@@ -30,6 +32,7 @@
 #include <deal.II/lac/trilinos_vector.h>
 
 #include <softface/core/distributed_layout.h>
+#include <softface/core/error.h>
 
 #include "peer.h"
 #include "scenes.h"
@@ -303,8 +306,9 @@ namespace
                                            SparsityTools::Partitioner::metis);
       else
         for (const auto &cell : partitioned.active_cell_iterators())
-          cell->set_subdomain_id(cell->active_cell_index() * n_ranks /
-                                 partitioned.n_active_cells());
+          cell->set_subdomain_id(static_cast<types::subdomain_id>(
+            std::uint64_t(cell->active_cell_index()) * n_ranks /
+            partitioned.n_active_cells()));
       unsigned int other_owner = 0;
       for (const auto &cell : partitioned.active_cell_iterators())
         other_owner += cell->subdomain_id() != owner[cell->active_cell_index()];
@@ -368,7 +372,10 @@ SOFTFACE_TEST(distributed_layout)
 
   // Segments that share vertices, as a patient's cuts leave them: the cube's
   // upper half is a third segment, and its vertices on the held faces and at
-  // the inner bone touch two segments' bone and are left free.
+  // the inner bone touch two segments' bone and are left free. A fourth
+  // segment takes boundary id 0, which no face of the cube has but the faces
+  // at the edge of a rank's part do on that rank (a contact-only segment may
+  // have no join point).
   Scene shared;
   {
     Mesh::CubeParameters parameters;
@@ -378,7 +385,8 @@ SOFTFACE_TEST(distributed_layout)
     shared.mesh_description = "generated cube";
     shared.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
                                {"bone", {Mesh::cube_inner_id}, {}, {}},
-                               {"upper half", {7}, {}, {}}};
+                               {"upper half", {7}, {}, {}},
+                               {"boundary id 0", {}, {0}, {}, true}};
     shared.resolve_shared_join_points = true;
     shared.setup();
   }
@@ -386,6 +394,23 @@ SOFTFACE_TEST(distributed_layout)
                shared,
                Partitioner::metis,
                false);
+
+  // Where the scene does not leave such vertices free, every rank refuses
+  // them with one message (here the scene allowed them first).
+  shared.resolve_shared_join_points = false;
+  unsigned int refused              = 0;
+  try
+    {
+      const DistributedLayout layout(shared, MPI_COMM_WORLD);
+    }
+  catch (const Error &error)
+    {
+      ++refused;
+      deallog << "refused: " << error.what() << std::endl;
+    }
+  check_equal("ranks that refused shared join points",
+              Utilities::MPI::sum(refused, MPI_COMM_WORLD),
+              Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
 
   ParameterHandler prm;
   Scene            gmsh;

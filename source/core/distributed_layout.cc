@@ -1,9 +1,10 @@
 // The scene's layout on several MPI ranks (issue 20, a first step): the
 // serial mesh partitioned, each rank's part described from the mesh's cells
 // at its own (no copy of the mesh), a fully distributed triangulation and
-// DoFHandler per rank, and the map from its DoFs to the scene's, through which
-// the serial decisions (join points) and vectors reach the ranks and answers
-// come back. See core/distributed_layout.h.
+// DoFHandler per rank, the join points of each rank's vertices decided on the
+// rank, and the map from its DoFs to the scene's, through which serial
+// vectors reach the ranks and answers come back. See
+// core/distributed_layout.h.
 
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/grid_tools.h>
@@ -18,7 +19,10 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <map>
+#include <sstream>
+#include <string>
 
 namespace softface
 {
@@ -222,7 +226,7 @@ namespace softface
           cell->id().get_coarse_cell_id());
 
         TriangulationDescription::CellData<3> info;
-        info.id = cell->id().template to_binary<3>();
+        info.id = cell->id().to_binary<3>();
         for (const unsigned int f : cell->face_indices())
           if (const types::boundary_id b = cell->face(f)->boundary_id();
               b != numbers::internal_face_boundary_id)
@@ -358,37 +362,56 @@ namespace softface
         add_segment_claims(segments, cell, claims);
 
     // The owner's answer, sent to the ranks that hold the vertex as a ghost
-    // through a ghosted vector (segment + 1, 0 for free: exact in doubles).
+    // through a ghosted vector (segment + 1, -1 for free: exact in doubles;
+    // 0 is a DoF no owner decided).
     TrilinosWrappers::MPI::Vector owned(locally_owned_dofs, communicator);
+    std::vector<bool>             decided(triangulation.n_vertices(), false);
     owned_shared_join_points = 0;
+    // A vertex that touches two segments where the scene does not allow
+    // it: the first this rank met, refused on every rank below.
+    std::string refused;
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (cell->is_locally_owned())
         for (const unsigned int v : cell->vertex_indices())
           {
             const auto first = cell->vertex_dof_index(v, 0);
-            if (!locally_owned_dofs.is_element(first) || owned[first] != 0.)
+            if (!locally_owned_dofs.is_element(first) ||
+                decided[cell->vertex_index(v)])
               continue;
-            const auto &c = claims[cell->vertex_index(v)];
+            decided[cell->vertex_index(v)] = true;
+            const auto &c                  = claims[cell->vertex_index(v)];
             if (c.size() > 1)
               {
-                // The scene refuses this before a layout is made; a rank
-                // that decides alone must too.
-                AssertThrow(resolve_shared_join_points,
-                            ExcMessage(
-                              "The vertex at (" +
-                              Utilities::to_string(cell->vertex(v)[0]) + ", " +
-                              Utilities::to_string(cell->vertex(v)[1]) + ", " +
-                              Utilities::to_string(cell->vertex(v)[2]) +
-                              ") touches two bone segments."));
                 ++owned_shared_join_points;
+                if (!resolve_shared_join_points && refused.empty())
+                  {
+                    std::ostringstream m;
+                    m << "Scene: the vertex at (" << cell->vertex(v)
+                      << ") touches both bone segment '"
+                      << segments[c.begin()->first].name << "' and '"
+                      << segments[std::next(c.begin())->first].name
+                      << "'; a join point belongs to one segment.";
+                    refused = m.str();
+                  }
               }
-            // A free vertex is marked as decided with -1.
             const unsigned int segment = join_segment(c);
             for (unsigned int i = 0; i < 3; ++i)
               owned[cell->vertex_dof_index(v, i)] =
                 segment == free ? -1. : segment + 1.;
           }
     owned.compress(VectorOperation::insert);
+    // Every rank refuses, with the message of the first rank that met one
+    // (the scene refuses the same before a layout is made).
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int first_refusing =
+      Utilities::MPI::min(refused.empty() ?
+                            n_ranks :
+                            Utilities::MPI::this_mpi_process(communicator),
+                          communicator);
+    if (first_refusing < n_ranks)
+      throw Error(
+        Utilities::MPI::broadcast(communicator, refused, first_refusing));
+
     TrilinosWrappers::MPI::Vector relevant(locally_owned_dofs,
                                            locally_relevant_dofs,
                                            communicator);

@@ -31,9 +31,9 @@ namespace softface
   {
     namespace
     {
-      // The cell's stiffness from the scene's cell (the serial model's
-      // element matrix, bit for bit) and its tissue; rows and columns in
-      // the order vertex, component, as @p dofs.
+      // The cell's stiffness from its vertices (the scene's cell's, in the
+      // same order: the serial model's element matrix, bit for bit) and its
+      // tissue; rows and columns in the order vertex, component, as @p dofs.
       void
       cell_stiffness(const DistributedLayout                   &layout,
                      const std::vector<Tensor<4, 3>>           &A,
@@ -41,10 +41,10 @@ namespace softface
                      FullMatrix<double>                        &cell_matrix,
                      std::vector<types::global_dof_index>      &dofs)
       {
-        const auto serial = layout.serial_cell(cell);
-        const auto K      = Elasticity::p1_stiffness(
-          Tetrahedron::geometry(Tetrahedron::vertices(serial)),
-          A[layout.scene.tissue_of_cell(serial->active_cell_index())]);
+        const auto K = Elasticity::p1_stiffness(
+          Tetrahedron::geometry(Tetrahedron::vertices(cell)),
+          A[layout.scene.tissue_of_cell(
+            DistributedLayout::serial_cell_index(cell))]);
         for (unsigned int a = 0; a < 4; ++a)
           for (unsigned int i = 0; i < 3; ++i)
             {

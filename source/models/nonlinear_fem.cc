@@ -82,8 +82,7 @@ namespace softface
           std::vector<DoFHandler<3>::active_cell_iterator> cells;
           ranks_layout->cells_at_owned_dofs(cells, ranks_cell_dofs);
           for (const auto &cell : cells)
-            rank_cells.push_back(
-              ranks_layout->serial_cell(cell)->active_cell_index());
+            rank_cells.push_back(DistributedLayout::serial_cell_index(cell));
           return;
         }
 

@@ -275,8 +275,7 @@ namespace softface
       for (unsigned int k = 0; k < rank_cells.size(); ++k)
         {
           const auto        &cell = rank_cells[k];
-          const unsigned int c =
-            ranks_layout->serial_cell(cell)->active_cell_index();
+          const unsigned int c    = DistributedLayout::serial_cell_index(cell);
           fe_values.reinit(cell);
           for (unsigned int i = 0; i < n; ++i)
             u_cell[i] = u[rank_cell_serial_dofs[n * k + i]];

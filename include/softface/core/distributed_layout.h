@@ -77,11 +77,12 @@ namespace softface
    * scene's mesh without a copy of it (describe_part()), and a DoFHandler
    * with the scene's element on it.
    *
-   * Each rank decides which of its vertices are join points, and of which
-   * segment, from its own cells (is_join_dof(), the serial answer). Each
-   * locally relevant DoF knows the scene's DoF of the same vertex and
-   * component (serial_dof()): a
-   * serial vector gives the owned entries of a distributed one (scatter())
+   * Each rank decides which of the vertices it owns are join points, and of
+   * which segment, from its own and ghost cells (is_join_dof(), the serial
+   * answer); a ghost vertex takes its owner's answer. Each locally relevant
+   * DoF knows the scene's DoF of the same vertex and component
+   * (serial_dof()): a serial vector gives the owned entries of a distributed
+   * one (scatter())
    * and a distributed answer comes back as the serial vector the reports and
    * outputs use (gather()).
    *
@@ -126,10 +127,19 @@ namespace softface
     serial_dof(const types::global_dof_index dof) const;
 
     /// The scene's cell that the locally relevant @p cell of this rank is
-    /// (the same vertices in the same order, the same index for the scene's
-    /// per-cell data such as tissues).
+    /// (the same vertices in the same order).
     Triangulation<3>::active_cell_iterator
     serial_cell(const DoFHandler<3>::active_cell_iterator &cell) const;
+
+    /// The active index of serial_cell(), read without the scene's mesh:
+    /// the cell's coarse cell id (the parts number cells as the scene's
+    /// unrefined mesh does). It indexes the scene's per-cell data, such as
+    /// tissues.
+    static unsigned int
+    serial_cell_index(const DoFHandler<3>::active_cell_iterator &cell)
+    {
+      return cell->id().get_coarse_cell_id();
+    }
 
     /// The cells at a DoF this rank owns, its own and ghost cells, and
     /// their DoFs (12 each, vertex by vertex, components within): the cells
@@ -174,8 +184,12 @@ namespace softface
      * Each locally owned vertex's segment, from the cells and boundary faces
      * around it by the scene's rule (add_segment_claims()): a rank holds them
      * all, its own cells and their ghosts, so its answer is the serial one.
-     * A ghost vertex may lack some of its cells here, so it takes the answer
-     * of the rank that owns it. Collective.
+     * A ghost vertex may lack some of its cells here, and a face of a ghost
+     * cell whose neighbour the rank does not hold is a boundary face of the
+     * rank's mesh only (with boundary id 0); neither touches an owned vertex,
+     * so a ghost vertex takes the answer of the rank that owns it. A vertex
+     * that touches two segments while the scene does not allow it is refused
+     * on every rank. Collective.
      */
     void
     decide_join_points(const std::vector<BoneSegment> &segments,
