@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -385,13 +384,9 @@ namespace softface
                 ++owned_shared_join_points;
                 if (!resolve_shared_join_points && refused.empty())
                   {
-                    std::ostringstream m;
-                    m << "Scene: the vertex at (" << cell->vertex(v)
-                      << ") touches both bone segment '"
-                      << segments[c.begin()->first].name << "' and '"
-                      << segments[std::next(c.begin())->first].name
-                      << "'; a join point belongs to one segment.";
-                    refused = m.str();
+                    std::ostringstream where;
+                    where << "the vertex at (" << cell->vertex(v) << ')';
+                    refused = shared_join_point_error(where.str(), segments, c);
                   }
               }
             const unsigned int segment = join_segment(c);

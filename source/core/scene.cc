@@ -21,6 +21,7 @@
 #include <boost/serialization/vector.hpp>
 
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -310,6 +311,17 @@ namespace softface
       }
   }
 
+  std::string
+  shared_join_point_error(const std::string                          &vertex,
+                          const std::vector<BoneSegment>             &segments,
+                          const std::map<unsigned int, unsigned int> &claims)
+  {
+    return "Scene: " + vertex + " touches both bone segment '" +
+           segments[claims.begin()->first].name + "' and '" +
+           segments[std::next(claims.begin())->first].name +
+           "'; a join point belongs to one segment.";
+  }
+
   void
   Scene::find_join_points()
   {
@@ -331,14 +343,10 @@ namespace softface
           continue;
         if (c.size() > 1 && !resolve_shared_join_points)
           {
-            std::ostringstream m;
-            m << "Scene: vertex " << vertex << " at ("
-              << triangulation.get_vertices()[vertex]
-              << ") touches both bone segment '"
-              << segments[c.begin()->first].name << "' and '"
-              << segments[std::next(c.begin())->first].name
-              << "'; a join point belongs to one segment.";
-            throw Error(m.str());
+            std::ostringstream where;
+            where << "vertex " << vertex << " at ("
+                  << triangulation.get_vertices()[vertex] << ')';
+            throw Error(shared_join_point_error(where.str(), segments, c));
           }
         // Where a cut leaves a vertex touching two bone parts (patient
         // meshes), the tissue covers the saw kerf and is attached to

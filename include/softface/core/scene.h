@@ -58,6 +58,13 @@ namespace softface
                      const Triangulation<3>::active_cell_iterator &cell,
                      std::vector<std::map<unsigned int, unsigned int>> &claims);
 
+  /// The refusal of a vertex with @p claims by two segments, where the
+  /// scene does not leave it free; @p vertex names it ("vertex 12 at (...)").
+  std::string
+  shared_join_point_error(const std::string                          &vertex,
+                          const std::vector<BoneSegment>             &segments,
+                          const std::map<unsigned int, unsigned int> &claims);
+
   /// The segment of a vertex with @p claims, or numbers::invalid_unsigned_int
   /// if it is free: claimed by none, or by several (a vertex that touches
   /// two segments' bone, which the caller refuses or leaves free).
