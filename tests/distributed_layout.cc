@@ -22,7 +22,10 @@
 // - each rank's part, described from the mesh without a copy of it (by any
 //   rank), equals deal.II's description of it, and the cells' ranks are
 //   those of deal.II's partition (GridTools::partition_triangulation() with
-//   METIS, the cell order's ranges).
+//   METIS, the cell order's ranges);
+// - in groups of ranks whose root describes and sends its members' parts,
+//   the layout is the same, and its members read nothing of the scene's
+//   mesh (their copy of the scene has none).
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/dofs/dof_tools.h>
@@ -151,16 +154,24 @@ namespace
     check_against_dealii("  ", reference, {&table, &searched});
   }
 
+  /// The layout of @p scene checked against it; with @p layout_scene, the
+  /// layout is built from that scene instead, in groups of @p group_size
+  /// ranks (its members' copy of the scene may lack the mesh).
   void
   check_layout(const std::string                   &name,
                const Scene                         &scene,
                const DistributedLayout::Partitioner partitioner,
-               const bool                           print_per_rank)
+               const bool                           print_per_rank,
+               const Scene                         *layout_scene = nullptr,
+               const unsigned int                   group_size   = 1)
   {
     const MPI_Comm          comm    = MPI_COMM_WORLD;
     const unsigned int      n_ranks = Utilities::MPI::n_mpi_processes(comm);
-    const DistributedLayout layout(scene, comm, partitioner);
-    const auto             &owned        = layout.locally_owned_dofs;
+    const DistributedLayout layout(layout_scene ? *layout_scene : scene,
+                                   comm,
+                                   partitioner,
+                                   group_size);
+    const auto                   &owned  = layout.locally_owned_dofs;
     const types::global_dof_index n_dofs = scene.dof_handler.n_dofs();
 
     deallog << name << ':' << std::endl;
@@ -417,4 +428,32 @@ SOFTFACE_TEST(distributed_layout)
   read_scene("peer_calculix_cube30k.prm", prm, gmsh);
   check_layout("gmsh cube30k, cell order", gmsh, Partitioner::cell_order, true);
   check_layout("gmsh cube30k, metis", gmsh, Partitioner::metis, false);
+
+  // In groups of two ranks (one group on 2 ranks, a group of two and one of
+  // one on 3), each group's root describes its members' parts: the members'
+  // scene has no mesh and no serial DoFHandler left, so that a layout that
+  // read them would fail. Its parts are checked against the whole scene.
+  {
+    const unsigned int group_size = 2;
+    const bool         member =
+      Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) % group_size != 0;
+    Scene stripped;
+    read_scene("peer_calculix_cube30k.prm", prm, stripped);
+    if (member)
+      {
+        stripped.dof_handler.clear();
+        stripped.triangulation.clear();
+      }
+    check_equal("members' scene cells, summed over the ranks",
+                Utilities::MPI::sum(stripped.triangulation.n_active_cells(),
+                                    MPI_COMM_WORLD),
+                (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) + 1) /
+                  group_size * gmsh.triangulation.n_active_cells());
+    check_layout("gmsh cube30k, metis, in groups of 2, members without mesh",
+                 gmsh,
+                 Partitioner::metis,
+                 false,
+                 &stripped,
+                 group_size);
+  }
 }

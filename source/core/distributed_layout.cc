@@ -6,6 +6,7 @@
 // vectors reach the ranks and answers come back. See
 // core/distributed_layout.h.
 
+#include <deal.II/base/utilities.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria_description.h>
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <string>
@@ -120,13 +122,26 @@ namespace softface
                       "of the cells' order, a space-filling curve for a "
                       "read mesh) or 'metis' (METIS on the cells' face "
                       "graph: fewer faces between the ranks).");
+    prm.declare_entry("Mesh group size",
+                      "1",
+                      Patterns::Integer(1),
+                      "On several MPI ranks, how many consecutive ranks "
+                      "share one root that describes their parts of the "
+                      "mesh and sends them (deal.II's partitioning in "
+                      "groups; one group per node is the usual choice). 1: "
+                      "every rank describes its own part. Every rank still "
+                      "builds the whole scene today, so a group saves its "
+                      "members the describing, not yet the memory of the "
+                      "scene's mesh (issue 20).");
   }
 
   SharedDistributedLayout::SharedDistributedLayout(
     const MPI_Comm                       communicator,
-    const DistributedLayout::Partitioner partitioner)
+    const DistributedLayout::Partitioner partitioner,
+    const unsigned int                   group_size)
       : communicator(communicator)
       , partitioner(partitioner)
+      , group_size(group_size)
   {}
 
   const DistributedLayout &
@@ -136,46 +151,42 @@ namespace softface
     AssertThrow(!layout || &layout->scene == &scene,
                 ExcMessage("A shared layout serves one scene."));
     if (!layout)
-      layout =
-        std::make_unique<DistributedLayout>(scene, communicator, partitioner);
+      layout = std::make_unique<DistributedLayout>(scene,
+                                                   communicator,
+                                                   partitioner,
+                                                   group_size);
     return *layout;
   }
 
   std::vector<types::subdomain_id>
   cell_owners(const Triangulation<3>              &mesh,
-              const MPI_Comm                       communicator,
+              const unsigned int                   n_parts,
               const DistributedLayout::Partitioner partitioner)
   {
-    const unsigned int  n_ranks = Utilities::MPI::n_mpi_processes(communicator);
-    const std::uint64_t n_cells = mesh.n_active_cells();
+    const std::uint64_t              n_cells = mesh.n_active_cells();
     std::vector<types::subdomain_id> owner(n_cells, 0);
-    if (n_ranks == 1)
+    if (n_parts == 1)
       return owner;
     if (partitioner == DistributedLayout::Partitioner::metis)
       {
-        // METIS on rank 0 only, its owners sent to all: every rank must
-        // build its part from the same partition. The graph is the one
-        // GridTools::partition_triangulation() gives METIS, without the copy
-        // of the mesh whose subdomain ids it would set.
-        if (Utilities::MPI::this_mpi_process(communicator) == 0)
-          {
-            SparsityPattern faces;
-            {
-              DynamicSparsityPattern dynamic;
-              GridTools::get_face_connectivity_of_cells(mesh, dynamic);
-              faces.copy_from(dynamic);
-            }
-            std::vector<unsigned int> parts(n_cells);
-            SparsityTools::partition(faces,
-                                     n_ranks,
-                                     parts,
-                                     SparsityTools::Partitioner::metis);
-            owner.assign(parts.begin(), parts.end());
-          }
-        return Utilities::MPI::broadcast(communicator, owner);
+        // The graph GridTools::partition_triangulation() gives METIS,
+        // without the copy of the mesh whose subdomain ids it would set.
+        SparsityPattern faces;
+        {
+          DynamicSparsityPattern dynamic;
+          GridTools::get_face_connectivity_of_cells(mesh, dynamic);
+          faces.copy_from(dynamic);
+        }
+        std::vector<unsigned int> parts(n_cells);
+        SparsityTools::partition(faces,
+                                 n_parts,
+                                 parts,
+                                 SparsityTools::Partitioner::metis);
+        owner.assign(parts.begin(), parts.end());
+        return owner;
       }
     for (std::uint64_t c = 0; c < n_cells; ++c)
-      owner[c] = static_cast<types::subdomain_id>(c * n_ranks / n_cells);
+      owner[c] = static_cast<types::subdomain_id>(c * n_parts / n_cells);
     return owner;
   }
 
@@ -183,7 +194,8 @@ namespace softface
   describe_part(const Triangulation<3>                 &mesh,
                 const std::vector<types::subdomain_id> &owner,
                 const types::subdomain_id               rank,
-                const MPI_Comm                          communicator)
+                const MPI_Comm                          communicator,
+                std::vector<unsigned int>              *serial_vertex)
   {
     AssertThrow(mesh.n_levels() == 1 && owner.size() == mesh.n_active_cells(),
                 ExcMessage("describe_part() takes an unrefined mesh and one "
@@ -246,11 +258,15 @@ namespace softface
     // The relevant vertices in the mesh's order, numbered from 0.
     std::vector<unsigned int> local_index(mesh.n_vertices(),
                                           numbers::invalid_unsigned_int);
+    if (serial_vertex != nullptr)
+      serial_vertex->clear();
     for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
       if (relevant_vertex[v])
         {
           local_index[v] = part.coarse_cell_vertices.size();
           part.coarse_cell_vertices.push_back(mesh.get_vertices()[v]);
+          if (serial_vertex != nullptr)
+            serial_vertex->push_back(v);
         }
     for (auto &cell : part.coarse_cells)
       for (auto &v : cell.vertices)
@@ -258,50 +274,156 @@ namespace softface
     return part;
   }
 
-  DistributedLayout::DistributedLayout(const Scene      &scene,
-                                       const MPI_Comm    communicator,
-                                       const Partitioner partitioner)
+  namespace
+  {
+    /// Tags of the messages a group's root sends its members.
+    constexpr int part_tag = 2011, serial_vertex_tag = 2012;
+
+    /// @p buffer to rank @p to, in pieces MPI's int counts can hold.
+    void
+    send_bytes(const std::vector<char> &buffer,
+               const unsigned int       to,
+               const int                tag,
+               const MPI_Comm           communicator)
+    {
+      const std::uint64_t size = buffer.size();
+      int error = MPI_Send(&size, 1, MPI_UINT64_T, to, tag, communicator);
+      AssertThrowMPI(error);
+      const std::uint64_t piece = std::numeric_limits<int>::max();
+      for (std::uint64_t first = 0; first < size; first += piece)
+        {
+          error = MPI_Send(buffer.data() + first,
+                           static_cast<int>(std::min(piece, size - first)),
+                           MPI_CHAR,
+                           to,
+                           tag,
+                           communicator);
+          AssertThrowMPI(error);
+        }
+    }
+
+    std::vector<char>
+    receive_bytes(const unsigned int from,
+                  const int          tag,
+                  const MPI_Comm     communicator)
+    {
+      std::uint64_t size  = 0;
+      int           error = MPI_Recv(
+        &size, 1, MPI_UINT64_T, from, tag, communicator, MPI_STATUS_IGNORE);
+      AssertThrowMPI(error);
+      std::vector<char>   buffer(size);
+      const std::uint64_t piece = std::numeric_limits<int>::max();
+      for (std::uint64_t first = 0; first < size; first += piece)
+        {
+          error = MPI_Recv(buffer.data() + first,
+                           static_cast<int>(std::min(piece, size - first)),
+                           MPI_CHAR,
+                           from,
+                           tag,
+                           communicator,
+                           MPI_STATUS_IGNORE);
+          AssertThrowMPI(error);
+        }
+      return buffer;
+    }
+  } // namespace
+
+  DistributedLayout::DistributedLayout(const Scene       &scene,
+                                       const MPI_Comm     communicator,
+                                       const Partitioner  partitioner,
+                                       const unsigned int group_size)
       : scene(scene)
       , communicator(communicator)
       , triangulation(communicator)
+      , n_serial_dofs(scene.join_dofs().size())
   {
-    // A coarse cell id is the serial cell's active index only on an
-    // unrefined mesh (softface's meshes are).
-    AssertThrow(scene.triangulation.n_levels() == 1,
-                ExcMessage("A refined mesh cannot be distributed yet."));
+    AssertThrow(group_size >= 1,
+                ExcMessage("The mesh group size must be at least 1."));
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(communicator);
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);
+    const unsigned int root    = rank - rank % group_size;
 
-    const std::vector<types::subdomain_id> owner =
-      cell_owners(scene.triangulation, communicator, partitioner);
-    triangulation.create_triangulation(
-      describe_part(scene.triangulation,
-                    owner,
-                    Utilities::MPI::this_mpi_process(communicator),
-                    communicator));
+    // The parts, described by each group's root from the scene's mesh
+    // (deal.II's partitioning in groups): rank 0 partitions the cells, the
+    // roots learn the owners and describe their members' parts, which the
+    // members receive with the scene's index of each of their vertices. A
+    // member reads nothing of the scene's mesh here.
+    TriangulationDescription::Description<3, 3> part;
+    std::vector<unsigned int>                   serial_vertex;
+    {
+      MPI_Comm roots;
+      int      error = MPI_Comm_split(communicator,
+                                 rank == root ? 0 : MPI_UNDEFINED,
+                                 rank,
+                                 &roots);
+      AssertThrowMPI(error);
+      if (rank == root)
+        {
+          // A coarse cell id is the serial cell's active index only on an
+          // unrefined mesh (softface's meshes are).
+          AssertThrow(scene.triangulation.n_levels() == 1,
+                      ExcMessage("A refined mesh cannot be distributed yet."));
+          std::vector<types::subdomain_id> owner;
+          if (rank == 0)
+            owner = cell_owners(scene.triangulation, n_ranks, partitioner);
+          owner = Utilities::MPI::broadcast(roots, owner);
+          error = MPI_Comm_free(&roots);
+          AssertThrowMPI(error);
+
+          for (unsigned int member = root + 1;
+               member < std::min(root + group_size, n_ranks);
+               ++member)
+            {
+              std::vector<unsigned int> vertices;
+              send_bytes(Utilities::pack(describe_part(scene.triangulation,
+                                                       owner,
+                                                       member,
+                                                       communicator,
+                                                       &vertices),
+                                         /*allow_compression=*/false),
+                         member,
+                         part_tag,
+                         communicator);
+              send_bytes(Utilities::pack(vertices, false),
+                         member,
+                         serial_vertex_tag,
+                         communicator);
+            }
+          part = describe_part(
+            scene.triangulation, owner, rank, communicator, &serial_vertex);
+        }
+      else
+        {
+          part = Utilities::unpack<TriangulationDescription::Description<3, 3>>(
+            receive_bytes(root, part_tag, communicator), false);
+          part.comm     = communicator;
+          serial_vertex = Utilities::unpack<std::vector<unsigned int>>(
+            receive_bytes(root, serial_vertex_tag, communicator), false);
+        }
+    }
+    triangulation.create_triangulation(part);
+    part = TriangulationDescription::Description<3, 3>();
 
     dof_handler.reinit(triangulation);
     dof_handler.distribute_dofs(scene.fe);
     locally_owned_dofs = dof_handler.locally_owned_dofs();
     DoFTools::extract_locally_relevant_dofs(dof_handler, locally_relevant_dofs);
 
-    // A cell of this rank is the serial cell of its coarse cell id (the
-    // description numbers coarse cells as the serial mesh does), with its
-    // vertices in the same order: the DoFs of a vertex and component
-    // correspond.
+    // The part numbers its vertices as its description does, and the root
+    // sent the scene's index of each: the DoFs of a vertex and component
+    // correspond to the scene's (Scene::vertex_dofs()).
+    AssertThrow(triangulation.n_vertices() == serial_vertex.size(),
+                ExcInternalError());
     serial_dof_of_relevant.assign(locally_relevant_dofs.n_elements(),
                                   numbers::invalid_dof_index);
+    const auto &vertex_dofs = scene.vertex_dofs();
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
-        {
-          const DoFHandler<3>::active_cell_iterator serial(
-            &scene.triangulation,
-            0,
-            cell->id().get_coarse_cell_id(),
-            &scene.dof_handler);
-          for (const unsigned int v : cell->vertex_indices())
-            for (unsigned int c = 0; c < 3; ++c)
-              serial_dof_of_relevant[locally_relevant_dofs.index_within_set(
-                cell->vertex_dof_index(v, c))] = serial->vertex_dof_index(v, c);
-        }
+        for (const unsigned int v : cell->vertex_indices())
+          for (unsigned int c = 0; c < 3; ++c)
+            serial_dof_of_relevant[locally_relevant_dofs.index_within_set(
+              cell->vertex_dof_index(v, c))] =
+              vertex_dofs[serial_vertex[cell->vertex_index(v)]][c];
 
     decide_join_points(scene.segments, scene.resolve_shared_join_points);
   }
@@ -461,7 +583,7 @@ namespace softface
   {
     // Each rank writes its owned entries into a zero serial vector; the sum
     // over the ranks is the whole vector, since every DoF has one owner.
-    Vector<double> serial(scene.dof_handler.n_dofs());
+    Vector<double> serial(n_serial_dofs);
     for (const auto dof : locally_owned_dofs)
       serial[serial_dof(dof)] = distributed[dof];
     Utilities::MPI::sum(serial, communicator, serial);

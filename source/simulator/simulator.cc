@@ -359,7 +359,8 @@ namespace softface
             prm.enter_subsection("Models");
             const auto layout = std::make_shared<SharedDistributedLayout>(
               MPI_COMM_WORLD,
-              DistributedLayout::parse_partitioner(prm.get("Partitioner")));
+              DistributedLayout::parse_partitioner(prm.get("Partitioner")),
+              prm.get_integer("Mesh group size"));
             prm.leave_subsection();
             for (auto &model : models)
               model.second->set_shared_layout(layout);

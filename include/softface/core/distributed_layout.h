@@ -86,8 +86,11 @@ namespace softface
    * and a distributed answer comes back as the serial vector the reports and
    * outputs use (gather()).
    *
-   * The serial scene on every rank bounds the mesh a run can hold by one
-   * rank's memory; reading and partitioning a mesh in groups is a later step.
+   * The parts are described by the root of each group of ranks and sent to
+   * its members, which read nothing of the scene's mesh to build theirs;
+   * but every rank still holds the whole scene, which bounds the mesh a run
+   * can hold by one rank's memory. Members without the scene's mesh are the
+   * next step.
    */
   class DistributedLayout
   {
@@ -108,18 +111,25 @@ namespace softface
     static Partitioner
     parse_partitioner(const std::string &name);
 
-    /// The "Partitioner" entry, in the handler's current subsection.
+    /// The "Partitioner" and "Mesh group size" entries, in the handler's
+    /// current subsection.
     static void
     declare_partitioner(ParameterHandler &prm);
 
     /**
      * Partition the scene's cells among the ranks of @p communicator and
-     * build this rank's part. Collective: every rank of the communicator
-     * calls it with the same scene.
+     * build this rank's part. The ranks form groups of @p group_size
+     * consecutive ranks (the last may be smaller): the first rank of each, its
+     * root, describes its members' parts from the scene's mesh and sends them
+     * (deal.II's partitioning in groups), so a member reads nothing of the
+     * scene's mesh or serial DoFHandler here, only Scene::vertex_dofs(),
+     * the segments and the element. Collective: every rank of the
+     * communicator calls it with the same scene.
      */
-    DistributedLayout(const Scene      &scene,
-                      const MPI_Comm    communicator,
-                      const Partitioner partitioner = Partitioner::cell_order);
+    DistributedLayout(const Scene       &scene,
+                      const MPI_Comm     communicator,
+                      const Partitioner  partitioner = Partitioner::cell_order,
+                      const unsigned int group_size  = 1);
 
     /// The scene's DoF of the same vertex and component as @p dof, which
     /// must be locally relevant.
@@ -201,17 +211,20 @@ namespace softface
     /// join_segment_of_dof() of each locally relevant DoF, by its place.
     std::vector<unsigned int> join_segment_of_relevant;
     unsigned int              owned_shared_join_points = 0;
+    /// The scene's DoFs (the length of gather()'s vector).
+    const types::global_dof_index n_serial_dofs;
   };
 
   /**
-   * Each cell's rank (by active cell index) for the @p partitioner of
-   * DistributedLayout on the ranks of @p communicator; METIS gets the face
-   * graph GridTools::partition_triangulation() gives it, and its answer is
-   * made on rank 0 and sent to all. Collective.
+   * Each cell's part (by active cell index) among @p n_parts for the
+   * @p partitioner of DistributedLayout; METIS gets the face graph
+   * GridTools::partition_triangulation() gives it. DistributedLayout calls
+   * it on one rank and sends its answer to the others that need it: METIS
+   * need not answer alike on every rank.
    */
   std::vector<types::subdomain_id>
   cell_owners(const Triangulation<3>              &mesh,
-              const MPI_Comm                       communicator,
+              const unsigned int                   n_parts,
               const DistributedLayout::Partitioner partitioner);
 
   /**
@@ -221,13 +234,16 @@ namespace softface
    * them from a copy of the mesh whose subdomain ids are @p owner. It reads
    * the mesh without copying it: a copy holds as much memory as the mesh
    * (330 MB at 2M tetrahedra), on every rank. Any rank may describe any
-   * rank's part, as a group's root does for its group.
+   * rank's part, as a group's root does for its group. The mesh's index of
+   * each of the part's vertices, in the part's order, goes to
+   * @p serial_vertex if given.
    */
   TriangulationDescription::Description<3, 3>
   describe_part(const Triangulation<3>                 &mesh,
                 const std::vector<types::subdomain_id> &owner,
                 const types::subdomain_id               rank,
-                const MPI_Comm                          communicator);
+                const MPI_Comm                          communicator,
+                std::vector<unsigned int> *serial_vertex = nullptr);
 
   /**
    * The scene's DistributedLayout for every model of a run: built when the
@@ -238,7 +254,8 @@ namespace softface
   {
   public:
     SharedDistributedLayout(const MPI_Comm                       communicator,
-                            const DistributedLayout::Partitioner partitioner);
+                            const DistributedLayout::Partitioner partitioner,
+                            const unsigned int group_size = 1);
 
     /// The layout of @p scene, built by the first call (collective then);
     /// later calls must name the same scene.
@@ -247,6 +264,7 @@ namespace softface
 
     const MPI_Comm                       communicator;
     const DistributedLayout::Partitioner partitioner;
+    const unsigned int                   group_size;
 
   private:
     std::unique_ptr<DistributedLayout> layout;
