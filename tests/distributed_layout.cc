@@ -23,6 +23,9 @@
 //   rank), equals deal.II's description of it, and the cells' ranks are
 //   those of deal.II's partition (GridTools::partition_triangulation() with
 //   METIS, the cell order's ranges);
+// - each rank decides its cells' tissues and its owned vertices' nodal
+//   body force by the effects' rules per material id, as the scene's
+//   arrays have them (the loads to round-off);
 // - in groups of ranks whose root describes and sends its members' parts,
 //   the layout is the same, and its members read nothing of the scene's
 //   mesh (their copy of the scene has none).
@@ -37,6 +40,7 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 
+#include "effects.h"
 #include "peer.h"
 #include "scenes.h"
 #include "tests.h"
@@ -362,6 +366,46 @@ namespace
                 back.linfty_norm(),
                 0.);
   }
+  /// The effects' tissues and nodal body force decided on the ranks, from
+  /// their own and ghost cells, against the scene's arrays.
+  void
+  check_effects(const std::string                   &name,
+                const Scene                         &scene,
+                const DistributedLayout::Partitioner partitioner)
+  {
+    const MPI_Comm          comm = MPI_COMM_WORLD;
+    const DistributedLayout layout(scene, comm, partitioner);
+    deallog << name << ':' << std::endl;
+    unsigned int other_tissue = 0, owned_cells = 0;
+    for (const auto &cell : layout.dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          owned_cells += cell->is_locally_owned();
+          other_tissue +=
+            layout.tissue_of_cell(cell) !=
+            scene.tissue_of_cell(DistributedLayout::serial_cell_index(cell));
+        }
+    check_equal("  own and ghost cells whose tissue is not the serial cell's",
+                Utilities::MPI::sum(other_tissue, comm),
+                0);
+    check_equal("  owned cells, on all ranks",
+                Utilities::MPI::sum(owned_cells, comm),
+                scene.triangulation.n_active_cells());
+    double largest = 0., difference = 0.;
+    for (const auto dof : layout.locally_owned_dofs)
+      {
+        const double serial = scene.effects.body_force[layout.serial_dof(dof)];
+        largest             = std::max(largest, std::abs(serial));
+        difference =
+          std::max(difference, std::abs(layout.body_force()[dof] - serial));
+      }
+    largest = Utilities::MPI::max(largest, comm);
+    check_above("  largest serial nodal body force (N)", largest, 1e-6);
+    check_below("  largest difference of an owned DoF's body force, "
+                "relative to that",
+                Utilities::MPI::max(difference, comm) / largest,
+                1e-14);
+  }
 } // namespace
 
 SOFTFACE_TEST(distributed_layout)
@@ -422,6 +466,22 @@ SOFTFACE_TEST(distributed_layout)
   check_equal("ranks that refused shared join points",
               Utilities::MPI::sum(refused, MPI_COMM_WORLD),
               Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
+
+  // Two tissues under gravity, the upper half denser: each rank decides
+  // its cells' tissues and its vertices' loads by the effects' rules.
+  Scene layered;
+  make_two_tissue_cube(layered, false);
+  apply_effect(layered,
+               "gravity",
+               {{"Gravity", "1, 2, -9.81"},
+                {"Density", "1000"},
+                {"Densities", "3: 1100"}});
+  check_effects("two tissues under gravity, cell order",
+                layered,
+                Partitioner::cell_order);
+  check_effects("two tissues under gravity, metis",
+                layered,
+                Partitioner::metis);
 
   ParameterHandler prm;
   Scene            gmsh;

@@ -16,6 +16,7 @@
 
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
+#include <softface/core/tetrahedron.h>
 
 #include <algorithm>
 #include <array>
@@ -426,6 +427,36 @@ namespace softface
               vertex_dofs[serial_vertex[cell->vertex_index(v)]][c];
 
     decide_join_points(scene.segments, scene.resolve_shared_join_points);
+    decide_body_force();
+  }
+
+  void
+  DistributedLayout::decide_body_force()
+  {
+    if (!scene.has_body_force())
+      return;
+    // A quarter of each cell's weight on each vertex, as the scene's effect
+    // sums it (Effects::Gravity), over the cells at an owned vertex: its own
+    // and ghost cells, in the scene's order (the part keeps it).
+    Vector<double> local(locally_owned_dofs.n_elements());
+    for (const auto &cell : dof_handler.active_cell_iterators())
+      if (!cell->is_artificial())
+        {
+          const double cell_mass =
+            scene.effects.mass_density(cell->material_id()) *
+            Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              if (const auto dof = cell->vertex_dof_index(a, i);
+                  locally_owned_dofs.is_element(dof))
+                local[locally_owned_dofs.index_within_set(dof)] +=
+                  0.25 * cell_mass * scene.effects.acceleration[i];
+        }
+    owned_body_force.reinit(locally_owned_dofs, communicator);
+    unsigned int k = 0;
+    for (const auto dof : locally_owned_dofs)
+      owned_body_force[dof] = local[k++];
+    owned_body_force.compress(VectorOperation::insert);
   }
 
   types::global_dof_index

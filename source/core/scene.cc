@@ -51,6 +51,18 @@ namespace softface
     }
   } // namespace
 
+  unsigned int
+  SceneEffects::tissue_of_material(const types::material_id id) const
+  {
+    if (tissue_of_material_id.empty())
+      return 0;
+    const auto listed = tissue_of_material_id.find(id);
+    if (listed == tissue_of_material_id.end())
+      throw Error("Material id " + std::to_string(id) +
+                  " has no tissue in the scene's effects.");
+    return listed->second;
+  }
+
   Scene::Scene()
       : fe(FE_SimplexP<3>(1), 3)
       , mapping(FE_SimplexP<3>(1))

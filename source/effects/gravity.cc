@@ -103,20 +103,27 @@ namespace softface
         force.reinit(scene.dof_handler.n_dofs());
         auto &per_volume = scene.effects.cell_body_force;
         per_volume.assign(scene.triangulation.n_active_cells(), Tensor<1, 3>());
+        // The rule per material id (a rank's part applies it to its own
+        // cells): kg/m^3 times mm^3 is 1e-9 kg.
+        auto &effects = scene.effects;
+        effects.mass_density_of_material_id.clear();
+        for (const auto &[id, rho] : densities)
+          effects.mass_density_of_material_id[id] = rho * 1e-9;
+        effects.mass_density_otherwise = density * 1e-9;
+        effects.acceleration           = gravity;
+
         double mass = 0.;
         for (const auto &cell : scene.triangulation.active_cell_iterators())
           {
-            const auto   entry = densities.find(cell->material_id());
-            const double rho =
-              entry != densities.end() ? entry->second : density;
-            // kg/m^3 times mm^3 = 1e-9 kg; a quarter of its weight (N) on
-            // each vertex.
+            const double mass_density =
+              effects.mass_density(cell->material_id());
+            // A quarter of its weight (N) on each vertex.
             const double cell_mass =
-              rho * 1e-9 *
+              mass_density *
               Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
             mass += cell_mass;
             // N per mm^3, for models on layouts of their own.
-            per_volume[cell->active_cell_index()] = rho * 1e-9 * gravity;
+            per_volume[cell->active_cell_index()] = mass_density * gravity;
             for (unsigned int a = 0; a < 4; ++a)
               for (unsigned int i = 0; i < 3; ++i)
                 force[scene.vertex_dofs()[cell->vertex_index(a)][i]] +=

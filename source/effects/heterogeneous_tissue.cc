@@ -107,6 +107,14 @@ namespace softface
             tissues.push_back(tissue);
           }
 
+        // The rule per material id (a rank's part applies it to its own
+        // cells), then every cell's tissue by it.
+        scene.effects.tissue_of_material_id.clear();
+        for (const auto &id : bone)
+          scene.effects.tissue_of_material_id[id] = 0;
+        for (const auto &[id, t] : index)
+          scene.effects.tissue_of_material_id[id] = t;
+
         std::vector<unsigned char>             tissue_of_cell;
         std::map<types::material_id, unsigned> n_cells;
         tissue_of_cell.reserve(scene.triangulation.n_active_cells());
@@ -114,10 +122,8 @@ namespace softface
           {
             const auto id = cell->material_id();
             ++n_cells[id];
-            if (index.count(id))
-              tissue_of_cell.push_back(index.at(id));
-            else if (bone.count(id))
-              tissue_of_cell.push_back(0);
+            if (scene.effects.tissue_of_material_id.count(id))
+              tissue_of_cell.push_back(scene.effects.tissue_of_material(id));
             else
               {
                 std::ostringstream m;

@@ -41,10 +41,9 @@ namespace softface
                      FullMatrix<double>                        &cell_matrix,
                      std::vector<types::global_dof_index>      &dofs)
       {
-        const auto K = Elasticity::p1_stiffness(
-          Tetrahedron::geometry(Tetrahedron::vertices(cell)),
-          A[layout.scene.tissue_of_cell(
-            DistributedLayout::serial_cell_index(cell))]);
+        const auto K = Elasticity::p1_stiffness(Tetrahedron::geometry(
+                                                  Tetrahedron::vertices(cell)),
+                                                A[layout.tissue_of_cell(cell)]);
         for (unsigned int a = 0; a < 4; ++a)
           for (unsigned int i = 0; i < 3; ++i)
             {
@@ -244,11 +243,12 @@ namespace softface
             cell_stiffness(*layout, A, cell, cell_matrix, dofs);
             joins.distribute_local_to_global(cell_rhs, dofs, rhs, cell_matrix);
           }
-      // The scene's nodal body force (gravity) on the free DoFs.
+      // The nodal body force (gravity) on the free DoFs, as the rank
+      // decided it.
       if (scene.has_body_force())
         for (const auto dof : owned)
           if (!joins.is_constrained(dof))
-            rhs[dof] += scene.effects.body_force[layout->serial_dof(dof)];
+            rhs[dof] += layout->body_force()[dof];
       rhs.compress(VectorOperation::add);
 
       // The relative tolerance means what it means in the serial model,

@@ -79,7 +79,9 @@ namespace softface
    *
    * Each rank decides which of the vertices it owns are join points, and of
    * which segment, from its own and ghost cells (is_join_dof(), the serial
-   * answer); a ghost vertex takes its owner's answer. Each locally relevant
+   * answer); a ghost vertex takes its owner's answer. It decides the
+   * effects' tissues of its cells and nodal body force at its vertices alike
+   * (tissue_of_cell(), body_force()). Each locally relevant
    * DoF knows the scene's DoF of the same vertex and component
    * (serial_dof()): a serial vector gives the owned entries of a distributed
    * one (scatter())
@@ -173,6 +175,25 @@ namespace softface
     unsigned int
     n_owned_shared_join_points() const;
 
+    /// The tissue of the locally relevant @p cell, decided from its material
+    /// id by the scene's rule (SceneEffects::tissue_of_material()): the
+    /// serial cell's tissue.
+    unsigned int
+    tissue_of_cell(const DoFHandler<3>::active_cell_iterator &cell) const
+    {
+      return scene.effects.tissue_of_material(cell->material_id());
+    }
+
+    /// The scene's nodal body force (gravity's consistent P1 loads) at the
+    /// DoFs this rank owns, from its own and ghost cells by the scene's
+    /// rule (SceneEffects::mass_density()): the serial loads, cell
+    /// by cell in the serial order. Empty where the scene has no body force.
+    const TrilinosWrappers::MPI::Vector &
+    body_force() const
+    {
+      return owned_body_force;
+    }
+
     /// The owned entries of @p distributed from the serial vector @p serial.
     void
     scatter(const Vector<double>          &serial,
@@ -205,12 +226,17 @@ namespace softface
     decide_join_points(const std::vector<BoneSegment> &segments,
                        const bool resolve_shared_join_points);
 
+    /// body_force() on this rank's cells.
+    void
+    decide_body_force();
+
     /// serial_dof() of each locally relevant DoF, by its place in
     /// locally_relevant_dofs.
     std::vector<types::global_dof_index> serial_dof_of_relevant;
     /// join_segment_of_dof() of each locally relevant DoF, by its place.
-    std::vector<unsigned int> join_segment_of_relevant;
-    unsigned int              owned_shared_join_points = 0;
+    std::vector<unsigned int>     join_segment_of_relevant;
+    unsigned int                  owned_shared_join_points = 0;
+    TrilinosWrappers::MPI::Vector owned_body_force;
     /// The scene's DoFs (the length of gather()'s vector).
     const types::global_dof_index n_serial_dofs;
   };

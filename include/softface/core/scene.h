@@ -123,6 +123,34 @@ namespace softface
     /// The same body force per unit volume (N/mm^3) of every cell (active
     /// cell index), for a model on a layout of its own to integrate.
     std::vector<Tensor<1, 3>> cell_body_force;
+    /**
+     * The rules the arrays above come from, per material id, so that a rank
+     * decides the tissue of its cells and the nodal loads of its vertices
+     * from its own part of the mesh (issue 20, DistributedLayout): the
+     * tissue of a cell of each material id (empty: every cell is tissue 0);
+     * the mass per unit volume (kg/mm^3) of each listed id and of any other,
+     * and the acceleration (m/s^2) that makes a cell's mass its weight (N):
+     * the body force.
+     */
+    std::map<types::material_id, unsigned char> tissue_of_material_id;
+    std::map<types::material_id, double>        mass_density_of_material_id;
+    double                                      mass_density_otherwise = 0.;
+    Tensor<1, 3>                                acceleration;
+
+    /// The tissue of a cell of material @p id by the rule above; throws
+    /// for an id the rule lacks (the effect refused such a mesh first).
+    unsigned int
+    tissue_of_material(const types::material_id id) const;
+    /// The mass per unit volume (kg/mm^3) of a cell of material @p id.
+    double
+    mass_density(const types::material_id id) const
+    {
+      const auto listed = mass_density_of_material_id.find(id);
+      return listed != mass_density_of_material_id.end() ?
+               listed->second :
+               mass_density_otherwise;
+    }
+
     /// Constraints on free vertices (sliding contact, the lips' contact).
     std::vector<VertexConstraint> vertex_constraints;
     /// Active-set iterations a FEM model may take for unilateral ones (the
