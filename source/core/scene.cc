@@ -57,9 +57,11 @@ namespace softface
     if (tissue_of_material_id.empty())
       return 0;
     const auto listed = tissue_of_material_id.find(id);
-    if (listed == tissue_of_material_id.end())
-      throw Error("Material id " + std::to_string(id) +
-                  " has no tissue in the scene's effects.");
+    // The effect refused a mesh with such an id before any model ran; an
+    // id without a tissue here is softface's mistake, not the input's.
+    AssertThrow(listed != tissue_of_material_id.end(),
+                ExcMessage("Material id " + std::to_string(id) +
+                           " has no tissue in the scene's effects."));
     return listed->second;
   }
 

@@ -108,12 +108,13 @@ namespace softface
           }
 
         // The rule per material id (a rank's part applies it to its own
-        // cells), then every cell's tissue by it.
-        scene.effects.tissue_of_material_id.clear();
+        // cells), then every cell's tissue by it; the scene takes both once
+        // every cell has one.
+        std::map<types::material_id, unsigned char> rule;
         for (const auto &id : bone)
-          scene.effects.tissue_of_material_id[id] = 0;
+          rule[id] = 0;
         for (const auto &[id, t] : index)
-          scene.effects.tissue_of_material_id[id] = t;
+          rule[id] = t;
 
         std::vector<unsigned char>             tissue_of_cell;
         std::map<types::material_id, unsigned> n_cells;
@@ -122,8 +123,8 @@ namespace softface
           {
             const auto id = cell->material_id();
             ++n_cells[id];
-            if (scene.effects.tissue_of_material_id.count(id))
-              tissue_of_cell.push_back(scene.effects.tissue_of_material(id));
+            if (const auto listed = rule.find(id); listed != rule.end())
+              tissue_of_cell.push_back(listed->second);
             else
               {
                 std::ostringstream m;
@@ -137,8 +138,9 @@ namespace softface
                 throw Error(m.str());
               }
           }
-        scene.effects.tissues        = std::move(tissues);
-        scene.effects.tissue_of_cell = std::move(tissue_of_cell);
+        scene.effects.tissues               = std::move(tissues);
+        scene.effects.tissue_of_cell        = std::move(tissue_of_cell);
+        scene.effects.tissue_of_material_id = std::move(rule);
 
         std::ostringstream line;
         line << "heterogeneous tissue:";

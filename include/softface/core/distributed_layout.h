@@ -124,9 +124,10 @@ namespace softface
      * consecutive ranks (the last may be smaller): the first rank of each, its
      * root, describes its members' parts from the scene's mesh and sends them
      * (deal.II's partitioning in groups), so a member reads nothing of the
-     * scene's mesh or serial DoFHandler here, only Scene::vertex_dofs(),
-     * the segments and the element. Collective: every rank of the
-     * communicator calls it with the same scene.
+     * scene's mesh or serial DoFHandler here: only Scene::vertex_dofs(),
+     * join_dofs(), the segments, the element and the effects' rules.
+     * Collective: every rank of the communicator calls it with the same
+     * scene (a member's may lack the mesh).
      */
     DistributedLayout(const Scene       &scene,
                       const MPI_Comm     communicator,
@@ -139,7 +140,7 @@ namespace softface
     serial_dof(const types::global_dof_index dof) const;
 
     /// The scene's cell that the locally relevant @p cell of this rank is
-    /// (the same vertices in the same order).
+    /// (the same vertices in the same order); it needs the scene's mesh.
     Triangulation<3>::active_cell_iterator
     serial_cell(const DoFHandler<3>::active_cell_iterator &cell) const;
 
@@ -264,6 +265,21 @@ namespace softface
    * each of the part's vertices, in the part's order, goes to
    * @p serial_vertex if given.
    */
+  /**
+   * describe_part() of the @p n_parts ranks from @p first_rank on, in one
+   * walk over the mesh for up to 64 of them: a group's root describes its
+   * members' parts so. The mesh's indices of each part's vertices go to
+   * @p serial_vertices if given.
+   */
+  std::vector<TriangulationDescription::Description<3, 3>>
+  describe_parts(
+    const Triangulation<3>                 &mesh,
+    const std::vector<types::subdomain_id> &owner,
+    const types::subdomain_id               first_rank,
+    const unsigned int                      n_parts,
+    const MPI_Comm                          communicator,
+    std::vector<std::vector<unsigned int>> *serial_vertices = nullptr);
+
   TriangulationDescription::Description<3, 3>
   describe_part(const Triangulation<3>                 &mesh,
                 const std::vector<types::subdomain_id> &owner,
