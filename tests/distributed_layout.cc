@@ -158,6 +158,21 @@ namespace
     check_against_dealii("  ", reference, {&table, &searched});
   }
 
+  /// Scatter of @p serial into @p distributed, then gather, gives it back
+  /// exactly.
+  void
+  check_scatter_gather(const DistributedLayout       &layout,
+                       const Vector<double>          &serial,
+                       TrilinosWrappers::MPI::Vector &distributed)
+  {
+    layout.scatter(serial, distributed);
+    Vector<double> back = layout.gather(distributed);
+    back -= serial;
+    check_below("  scatter then gather, largest difference",
+                back.linfty_norm(),
+                0.);
+  }
+
   /// The layout of @p scene checked against it; with @p layout_scene, the
   /// layout is built from that scene instead, in groups of @p group_size
   /// ranks (its members' copy of the scene may lack the mesh).
@@ -359,19 +374,14 @@ namespace
     for (const auto &[dof, point] : serial_points)
       serial[dof] = field(point, dof % 3);
     TrilinosWrappers::MPI::Vector distributed(owned, comm);
-    layout.scatter(serial, distributed);
-    Vector<double> back = layout.gather(distributed);
-    back -= serial;
-    check_below("  scatter then gather, largest difference",
-                back.linfty_norm(),
-                0.);
+    check_scatter_gather(layout, serial, distributed);
 
     // A field set on the ranks from their own support points gathers to the
     // serial field.
     for (const auto dof : owned)
       distributed[dof] = field(points.at(dof), dof % 3);
     distributed.compress(VectorOperation::insert);
-    back = layout.gather(distributed);
+    Vector<double> back = layout.gather(distributed);
     back -= serial;
     check_below("  field set on the ranks, gathered, largest difference",
                 back.linfty_norm(),
@@ -477,12 +487,7 @@ SOFTFACE_TEST(distributed_layout)
           serial[i] = 1. + i;
         TrilinosWrappers::MPI::Vector distributed(layout.locally_owned_dofs,
                                                   comm);
-        layout.scatter(serial, distributed);
-        Vector<double> back = layout.gather(distributed);
-        back -= serial;
-        check_below("  scatter then gather, largest difference",
-                    back.linfty_norm(),
-                    0.);
+        check_scatter_gather(layout, serial, distributed);
       }
   }
 
