@@ -557,6 +557,64 @@ SOFTFACE_TEST(distributed_layout)
     deallog << "70 parts of the cube:" << std::endl;
     check_equal("  described together unlike alone", unlike, 0);
     check_equal("  empty parts", empty, 0);
+
+    // Parts on both sides of the 64-part chunks against deal.II's own
+    // description of a copy with these owners, and parts described from a
+    // first rank other than 0.
+    Triangulation<3> partitioned;
+    partitioned.copy_triangulation(cube.triangulation);
+    for (const auto &cell : partitioned.active_cell_iterators())
+      cell->set_subdomain_id(owners[cell->active_cell_index()]);
+    unsigned int unlike_dealii = 0;
+    for (const unsigned int r : {0u, 63u, 64u, 69u})
+      unlike_dealii += !(
+        tetrahedra_only(parts[r]) ==
+        tetrahedra_only(TriangulationDescription::Utilities::
+                          create_description_from_triangulation(
+                            partitioned,
+                            MPI_COMM_WORLD,
+                            TriangulationDescription::Settings::default_setting,
+                            r)));
+    check_equal("  parts 0, 63, 64, 69 unlike deal.II's description",
+                unlike_dealii,
+                0);
+    const auto from_3 =
+      describe_parts(cube.triangulation, owners, 3, 67, MPI_COMM_WORLD);
+    unsigned int unlike_from_3 = 0;
+    for (unsigned int r = 3; r < n_parts; ++r)
+      unlike_from_3 +=
+        !(tetrahedra_only(from_3[r - 3]) == tetrahedra_only(parts[r]));
+    check_equal("  parts 3 to 69 described from part 3 on unlike from 0",
+                unlike_from_3,
+                0);
+
+    // A part sent as plain arrays arrives whole (every field compared,
+    // faces' boundary ids and manifold ids too), with its vertices' indices;
+    // a message cut short is refused.
+    unsigned int unlike_sent = 0;
+    for (const unsigned int r : {0u, 64u})
+      {
+        std::vector<unsigned int> received;
+        auto back = unpack_part(pack_part(parts[r], vertices[r]),
+                                MPI_COMM_WORLD,
+                                received);
+        unlike_sent += !(tetrahedra_only(back) == tetrahedra_only(parts[r])) ||
+                       received != vertices[r];
+      }
+    check_equal("  parts sent unlike described", unlike_sent, 0);
+    auto cut = pack_part(parts[1], vertices[1]);
+    cut.resize(cut.size() - 5);
+    unsigned int refused_cut = 0;
+    try
+      {
+        std::vector<unsigned int> received;
+        unpack_part(cut, MPI_COMM_WORLD, received);
+      }
+    catch (const ExceptionBase &)
+      {
+        ++refused_cut;
+      }
+    check_equal("  a message cut short refused", refused_cut, 1);
   }
 
   // Two tissues under gravity, the upper half denser: each rank decides

@@ -274,8 +274,8 @@ namespace softface
           }
 
         // Each part's vertices in the mesh's order, numbered from 0 (one
-        // table of the mesh's vertices serves the parts in turn: a part's
-        // cells read only its own vertices' entries).
+        // table of the mesh's vertices serves the parts in turn, reset
+        // after each).
         std::vector<std::vector<unsigned int>> vertices(n_chunk);
         for (unsigned int v = 0; v < mesh.n_vertices(); ++v)
           for (std::uint64_t m = relevant_to[v]; m != 0; m &= m - 1)
@@ -285,14 +285,21 @@ namespace softface
               parts[chunk + p].coarse_cell_vertices.push_back(
                 mesh.get_vertices()[v]);
             }
-        std::vector<unsigned int> local_index(mesh.n_vertices());
+        std::vector<unsigned int> local_index(mesh.n_vertices(),
+                                              numbers::invalid_unsigned_int);
         for (unsigned int p = 0; p < n_chunk; ++p)
           {
             for (unsigned int k = 0; k < vertices[p].size(); ++k)
               local_index[vertices[p][k]] = k;
             for (auto &cell : parts[chunk + p].coarse_cells)
               for (auto &v : cell.vertices)
-                v = local_index[v];
+                {
+                  v = local_index[v];
+                  Assert(v != numbers::invalid_unsigned_int,
+                         ExcInternalError());
+                }
+            for (const unsigned int v : vertices[p])
+              local_index[v] = numbers::invalid_unsigned_int;
             if (serial_vertices != nullptr)
               (*serial_vertices)[chunk + p] = std::move(vertices[p]);
           }
@@ -332,6 +339,19 @@ namespace softface
     /// Tags of the messages a group's root sends its members.
     constexpr int part_tag = 2011;
 
+    /// What pack_part() writes for each cell (but its boundary faces) and
+    /// for each vertex.
+    constexpr std::size_t bytes_per_cell =
+      4 * sizeof(unsigned int) + sizeof(types::material_id) +
+      sizeof(types::manifold_id) + sizeof(types::coarse_cell_id) +
+      sizeof(CellId::binary_type) + 2 * sizeof(types::subdomain_id) +
+      sizeof(types::manifold_id) +
+      (GeometryInfo<3>::lines_per_cell + GeometryInfo<3>::quads_per_cell) *
+        sizeof(types::manifold_id) +
+      sizeof(std::uint32_t);
+    constexpr std::size_t bytes_per_vertex =
+      3 * sizeof(double) + sizeof(unsigned int);
+
     /// Appends @p n objects of a plain type to @p buffer.
     template <typename T>
     void
@@ -357,179 +377,172 @@ namespace softface
       position += n * sizeof(T);
     }
 
-    /**
-     * A part of tetrahedra (describe_parts()) and the mesh's index of each
-     * of its vertices as one message of plain arrays: Boost's serialisation
-     * of a description (Utilities::pack()) took 0.59 s to pack and 0.44 s to
-     * unpack at a million cells, three times the describing.
-     */
-    std::vector<char>
-    pack_part(const TriangulationDescription::Description<3, 3> &part,
-              const std::vector<unsigned int>                   &serial_vertex)
-    {
-      AssertThrow(part.cell_infos.size() == 1 &&
-                    part.cell_infos[0].size() == part.coarse_cells.size() &&
-                    serial_vertex.size() == part.coarse_cell_vertices.size(),
-                  ExcInternalError());
-      const std::uint64_t n_cells  = part.coarse_cells.size();
-      const std::uint64_t header[] = {n_cells,
-                                      part.coarse_cell_vertices.size(),
-                                      std::uint64_t(part.smoothing),
-                                      std::uint64_t(part.settings)};
-      std::vector<char>   buffer;
-      buffer.reserve(n_cells * 200 + serial_vertex.size() * 28 + 64);
-      put(buffer, header, 4);
-      for (const auto &cell : part.coarse_cells)
-        {
-          AssertThrow(cell.vertices.size() == 4,
-                      ExcMessage("Only tetrahedra are distributed."));
-          put(buffer, cell.vertices.data(), 4);
-          put(buffer, &cell.material_id, 1);
-          put(buffer, &cell.manifold_id, 1);
-          put(buffer, &cell.boundary_id, 1);
-        }
-      put(buffer, part.coarse_cell_index_to_coarse_cell_id.data(), n_cells);
-      for (const auto &info : part.cell_infos[0])
-        {
-          put(buffer, info.id.data(), info.id.size());
-          put(buffer, &info.subdomain_id, 1);
-          put(buffer, &info.level_subdomain_id, 1);
-          put(buffer, &info.manifold_id, 1);
-          put(buffer,
-              info.manifold_line_ids.data(),
-              info.manifold_line_ids.size());
-          put(buffer,
-              info.manifold_quad_ids.data(),
-              info.manifold_quad_ids.size());
-          const std::uint32_t n_faces = info.boundary_ids.size();
-          put(buffer, &n_faces, 1);
-          for (const auto &[face, id] : info.boundary_ids)
-            {
-              put(buffer, &face, 1);
-              put(buffer, &id, 1);
-            }
-        }
-      for (const auto &x : part.coarse_cell_vertices)
-        for (unsigned int d = 0; d < 3; ++d)
-          put(buffer, &x[d], 1);
-      put(buffer, serial_vertex.data(), serial_vertex.size());
-      return buffer;
-    }
-
-    /// pack_part() read back; the description's communicator is
-    /// @p communicator.
-    TriangulationDescription::Description<3, 3>
-    unpack_part(const std::vector<char>   &buffer,
-                const MPI_Comm             communicator,
-                std::vector<unsigned int> &serial_vertex)
-    {
-      TriangulationDescription::Description<3, 3> part;
-      std::size_t                                 position = 0;
-      std::uint64_t                               header[4];
-      get(buffer, position, header, 4);
-      const std::uint64_t n_cells = header[0], n_vertices = header[1];
-      part.comm      = communicator;
-      part.smoothing = static_cast<Triangulation<3>::MeshSmoothing>(header[2]);
-      part.settings =
-        static_cast<TriangulationDescription::Settings>(header[3]);
-      part.coarse_cells.resize(n_cells, CellData<3>(4));
-      for (auto &cell : part.coarse_cells)
-        {
-          get(buffer, position, cell.vertices.data(), 4);
-          get(buffer, position, &cell.material_id, 1);
-          get(buffer, position, &cell.manifold_id, 1);
-          get(buffer, position, &cell.boundary_id, 1);
-        }
-      part.coarse_cell_index_to_coarse_cell_id.resize(n_cells);
-      get(buffer,
-          position,
-          part.coarse_cell_index_to_coarse_cell_id.data(),
-          n_cells);
-      part.cell_infos.resize(1);
-      part.cell_infos[0].resize(n_cells);
-      for (auto &info : part.cell_infos[0])
-        {
-          get(buffer, position, info.id.data(), info.id.size());
-          get(buffer, position, &info.subdomain_id, 1);
-          get(buffer, position, &info.level_subdomain_id, 1);
-          get(buffer, position, &info.manifold_id, 1);
-          get(buffer,
-              position,
-              info.manifold_line_ids.data(),
-              info.manifold_line_ids.size());
-          get(buffer,
-              position,
-              info.manifold_quad_ids.data(),
-              info.manifold_quad_ids.size());
-          std::uint32_t n_faces = 0;
-          get(buffer, position, &n_faces, 1);
-          AssertThrow(n_faces <= 4, ExcMessage("A part's message is wrong."));
-          info.boundary_ids.resize(n_faces);
-          for (auto &[face, id] : info.boundary_ids)
-            {
-              get(buffer, position, &face, 1);
-              get(buffer, position, &id, 1);
-            }
-        }
-      part.coarse_cell_vertices.resize(n_vertices);
-      for (auto &x : part.coarse_cell_vertices)
-        for (unsigned int d = 0; d < 3; ++d)
-          get(buffer, position, &x[d], 1);
-      serial_vertex.resize(n_vertices);
-      get(buffer, position, serial_vertex.data(), n_vertices);
-      AssertThrow(position == buffer.size(),
-                  ExcMessage("A part's message is longer than its parts."));
-      return part;
-    }
-
-    /// @p buffer to rank @p to, in pieces MPI's int counts can hold.
-    void
-    send_bytes(const std::vector<char> &buffer,
-               const unsigned int       to,
-               const int                tag,
-               const MPI_Comm           communicator)
-    {
-      const std::uint64_t size = buffer.size();
-      int error = MPI_Send(&size, 1, MPI_UINT64_T, to, tag, communicator);
-      AssertThrowMPI(error);
-      const std::uint64_t piece = std::numeric_limits<int>::max();
-      for (std::uint64_t first = 0; first < size; first += piece)
-        {
-          error = MPI_Send(buffer.data() + first,
-                           static_cast<int>(std::min(piece, size - first)),
-                           MPI_CHAR,
-                           to,
-                           tag,
-                           communicator);
-          AssertThrowMPI(error);
-        }
-    }
-
-    std::vector<char>
-    receive_bytes(const unsigned int from,
-                  const int          tag,
-                  const MPI_Comm     communicator)
-    {
-      std::uint64_t size  = 0;
-      int           error = MPI_Recv(
-        &size, 1, MPI_UINT64_T, from, tag, communicator, MPI_STATUS_IGNORE);
-      AssertThrowMPI(error);
-      std::vector<char>   buffer(size);
-      const std::uint64_t piece = std::numeric_limits<int>::max();
-      for (std::uint64_t first = 0; first < size; first += piece)
-        {
-          error = MPI_Recv(buffer.data() + first,
-                           static_cast<int>(std::min(piece, size - first)),
-                           MPI_CHAR,
-                           from,
-                           tag,
-                           communicator,
-                           MPI_STATUS_IGNORE);
-          AssertThrowMPI(error);
-        }
-      return buffer;
-    }
   } // namespace
+
+  std::vector<char>
+  pack_part(const TriangulationDescription::Description<3, 3> &part,
+            const std::vector<unsigned int>                   &serial_vertex)
+  {
+    AssertThrow(part.cell_infos.size() == 1 &&
+                  part.cell_infos[0].size() == part.coarse_cells.size() &&
+                  serial_vertex.size() == part.coarse_cell_vertices.size(),
+                ExcInternalError());
+    const std::uint64_t n_cells  = part.coarse_cells.size();
+    const std::uint64_t header[] = {n_cells,
+                                    part.coarse_cell_vertices.size(),
+                                    std::uint64_t(part.smoothing),
+                                    std::uint64_t(part.settings)};
+    std::vector<char>   buffer;
+    buffer.reserve(n_cells * 200 + serial_vertex.size() * 28 + 64);
+    put(buffer, header, 4);
+    for (const auto &cell : part.coarse_cells)
+      {
+        AssertThrow(cell.vertices.size() == 4,
+                    ExcMessage("Only tetrahedra are distributed."));
+        put(buffer, cell.vertices.data(), 4);
+        put(buffer, &cell.material_id, 1);
+        put(buffer, &cell.manifold_id, 1);
+        put(buffer, &cell.boundary_id, 1);
+      }
+    put(buffer, part.coarse_cell_index_to_coarse_cell_id.data(), n_cells);
+    for (const auto &info : part.cell_infos[0])
+      {
+        put(buffer, info.id.data(), info.id.size());
+        put(buffer, &info.subdomain_id, 1);
+        put(buffer, &info.level_subdomain_id, 1);
+        put(buffer, &info.manifold_id, 1);
+        put(buffer,
+            info.manifold_line_ids.data(),
+            info.manifold_line_ids.size());
+        put(buffer,
+            info.manifold_quad_ids.data(),
+            info.manifold_quad_ids.size());
+        const std::uint32_t n_faces = info.boundary_ids.size();
+        put(buffer, &n_faces, 1);
+        for (const auto &[face, id] : info.boundary_ids)
+          {
+            put(buffer, &face, 1);
+            put(buffer, &id, 1);
+          }
+      }
+    for (const auto &x : part.coarse_cell_vertices)
+      for (unsigned int d = 0; d < 3; ++d)
+        put(buffer, &x[d], 1);
+    put(buffer, serial_vertex.data(), serial_vertex.size());
+    return buffer;
+  }
+
+  TriangulationDescription::Description<3, 3>
+  unpack_part(const std::vector<char>   &buffer,
+              const MPI_Comm             communicator,
+              std::vector<unsigned int> &serial_vertex)
+  {
+    TriangulationDescription::Description<3, 3> part;
+    std::size_t                                 position = 0;
+    std::uint64_t                               header[4];
+    get(buffer, position, header, 4);
+    const std::uint64_t n_cells = header[0], n_vertices = header[1];
+    part.comm      = communicator;
+    part.smoothing = static_cast<Triangulation<3>::MeshSmoothing>(header[2]);
+    part.settings  = static_cast<TriangulationDescription::Settings>(header[3]);
+    part.coarse_cells.resize(n_cells, CellData<3>(4));
+    for (auto &cell : part.coarse_cells)
+      {
+        get(buffer, position, cell.vertices.data(), 4);
+        get(buffer, position, &cell.material_id, 1);
+        get(buffer, position, &cell.manifold_id, 1);
+        get(buffer, position, &cell.boundary_id, 1);
+      }
+    part.coarse_cell_index_to_coarse_cell_id.resize(n_cells);
+    get(buffer,
+        position,
+        part.coarse_cell_index_to_coarse_cell_id.data(),
+        n_cells);
+    part.cell_infos.resize(1);
+    part.cell_infos[0].resize(n_cells);
+    for (auto &info : part.cell_infos[0])
+      {
+        get(buffer, position, info.id.data(), info.id.size());
+        get(buffer, position, &info.subdomain_id, 1);
+        get(buffer, position, &info.level_subdomain_id, 1);
+        get(buffer, position, &info.manifold_id, 1);
+        get(buffer,
+            position,
+            info.manifold_line_ids.data(),
+            info.manifold_line_ids.size());
+        get(buffer,
+            position,
+            info.manifold_quad_ids.data(),
+            info.manifold_quad_ids.size());
+        std::uint32_t n_faces = 0;
+        get(buffer, position, &n_faces, 1);
+        AssertThrow(n_faces <= 4, ExcMessage("A part's message is wrong."));
+        info.boundary_ids.resize(n_faces);
+        for (auto &[face, id] : info.boundary_ids)
+          {
+            get(buffer, position, &face, 1);
+            get(buffer, position, &id, 1);
+          }
+      }
+    part.coarse_cell_vertices.resize(n_vertices);
+    for (auto &x : part.coarse_cell_vertices)
+      for (unsigned int d = 0; d < 3; ++d)
+        get(buffer, position, &x[d], 1);
+    serial_vertex.resize(n_vertices);
+    get(buffer, position, serial_vertex.data(), n_vertices);
+    AssertThrow(position == buffer.size(),
+                ExcMessage("A part's message is longer than its parts."));
+    return part;
+  }
+
+  /// @p buffer to rank @p to, in pieces MPI's int counts can hold.
+  void
+  send_bytes(const std::vector<char> &buffer,
+             const unsigned int       to,
+             const int                tag,
+             const MPI_Comm           communicator)
+  {
+    const std::uint64_t size = buffer.size();
+    int error = MPI_Send(&size, 1, MPI_UINT64_T, to, tag, communicator);
+    AssertThrowMPI(error);
+    const std::uint64_t piece = std::numeric_limits<int>::max();
+    for (std::uint64_t first = 0; first < size; first += piece)
+      {
+        error = MPI_Send(buffer.data() + first,
+                         static_cast<int>(std::min(piece, size - first)),
+                         MPI_CHAR,
+                         to,
+                         tag,
+                         communicator);
+        AssertThrowMPI(error);
+      }
+  }
+
+  std::vector<char>
+  receive_bytes(const unsigned int from,
+                const int          tag,
+                const MPI_Comm     communicator)
+  {
+    std::uint64_t size  = 0;
+    int           error = MPI_Recv(
+      &size, 1, MPI_UINT64_T, from, tag, communicator, MPI_STATUS_IGNORE);
+    AssertThrowMPI(error);
+    std::vector<char>   buffer(size);
+    const std::uint64_t piece = std::numeric_limits<int>::max();
+    for (std::uint64_t first = 0; first < size; first += piece)
+      {
+        error = MPI_Recv(buffer.data() + first,
+                         static_cast<int>(std::min(piece, size - first)),
+                         MPI_CHAR,
+                         from,
+                         tag,
+                         communicator,
+                         MPI_STATUS_IGNORE);
+        AssertThrowMPI(error);
+      }
+    return buffer;
+  }
+
 
   DistributedLayout::DistributedLayout(const Scene       &scene,
                                        const MPI_Comm     communicator,
@@ -550,12 +563,16 @@ namespace softface
     // (deal.II's partitioning in groups): rank 0 partitions the cells, the
     // roots learn the owners and describe their members' parts, which the
     // members receive with the scene's index of each of their vertices. A
-    // member reads nothing of the scene's mesh here.
+    // member reads nothing of the scene's mesh here but its number of levels
+    // (none, where a member holds no mesh). An error on a root while it
+    // describes or sends is deal.II's (not softface's Error, which a model's
+    // run takes for the model's failure on every rank): the program aborts
+    // every rank, so no member waits for its part forever.
     TriangulationDescription::Description<3, 3> part;
     std::vector<unsigned int>                   serial_vertex;
     {
       // A coarse cell id is the serial cell's active index only on an
-      // unrefined mesh (softface's meshes are); every rank holds the scene.
+      // unrefined mesh (softface's meshes are).
       AssertThrow(scene.triangulation.n_levels() <= 1,
                   ExcMessage("A refined mesh cannot be distributed yet."));
       // The roots' communicator, freed however this block ends.
@@ -580,17 +597,18 @@ namespace softface
             owner = cell_owners(scene.triangulation, n_ranks, partitioner);
           owner = Utilities::MPI::broadcast(roots.communicator, owner);
 
-          // The group's parts, up to 8 in one walk over the mesh (more
-          // would hold more of them at once), the root's own first; each
-          // member's sent as plain arrays and freed.
+          // The group's parts, a batch at a time in one walk over the mesh
+          // (more would hold more of them at once), the root's own first;
+          // each member's sent as plain arrays and freed.
+          const unsigned int batch   = 8;
           const unsigned int n_group = std::min(group_size, n_ranks - root);
-          for (unsigned int first = 0; first < n_group; first += 8)
+          for (unsigned int first = 0; first < n_group; first += batch)
             {
               std::vector<std::vector<unsigned int>> vertices;
               auto parts = describe_parts(scene.triangulation,
                                           owner,
                                           root + first,
-                                          std::min(8u, n_group - first),
+                                          std::min(batch, n_group - first),
                                           communicator,
                                           &vertices);
               for (unsigned int p = 0; p < parts.size(); ++p)
