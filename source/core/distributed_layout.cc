@@ -204,7 +204,15 @@ namespace softface
     AssertThrow(mesh.n_levels() == 1 && owner.size() == mesh.n_active_cells(),
                 ExcMessage("describe_parts() takes an unrefined mesh and one "
                            "owner per cell."));
+    // Every part has one level of cells (the mesh is unrefined).
     std::vector<TriangulationDescription::Description<3, 3>> parts(n_parts);
+    for (auto &part : parts)
+      {
+        part.comm      = communicator;
+        part.smoothing = mesh.get_mesh_smoothing();
+        part.settings  = TriangulationDescription::Settings::default_setting;
+        part.cell_infos.resize(1);
+      }
     if (serial_vertices != nullptr)
       serial_vertices->assign(n_parts, {});
     // The parts in chunks of 64, one bit each: one walk over the mesh for
@@ -267,8 +275,6 @@ namespace softface
                   part.coarse_cells.push_back(coarse);
                   part.coarse_cell_index_to_coarse_cell_id.push_back(
                     cell->id().get_coarse_cell_id());
-                  if (part.cell_infos.empty())
-                    part.cell_infos.resize(1);
                   part.cell_infos[0].push_back(info);
                 }
           }
@@ -305,13 +311,6 @@ namespace softface
           }
       }
 
-    for (auto &part : parts)
-      {
-        part.comm      = communicator;
-        part.smoothing = mesh.get_mesh_smoothing();
-        part.settings  = TriangulationDescription::Settings::default_setting;
-        part.cell_infos.resize(1);
-      }
     return parts;
   }
 
@@ -677,15 +676,14 @@ namespace softface
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
-          const double cell_mass =
+          const Tensor<1, 3> load = scene.effects.vertex_load(
             scene.effects.mass_density(cell->material_id()) *
-            Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
+            Tetrahedron::signed_volume(Tetrahedron::vertices(cell)));
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               if (const auto dof = cell->vertex_dof_index(a, i);
                   locally_owned_dofs.is_element(dof))
-                local[locally_owned_dofs.index_within_set(dof)] +=
-                  0.25 * cell_mass * scene.effects.acceleration[i];
+                local[locally_owned_dofs.index_within_set(dof)] += load[i];
         }
     owned_body_force.reinit(locally_owned_dofs, communicator);
     unsigned int k = 0;

@@ -117,17 +117,16 @@ namespace softface
           {
             const double mass_density =
               effects.mass_density(cell->material_id());
-            // A quarter of its weight (N) on each vertex.
             const double cell_mass =
               mass_density *
               Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
             mass += cell_mass;
             // N per mm^3, for models on layouts of their own.
             per_volume[cell->active_cell_index()] = mass_density * gravity;
+            const Tensor<1, 3> load = effects.vertex_load(cell_mass);
             for (unsigned int a = 0; a < 4; ++a)
               for (unsigned int i = 0; i < 3; ++i)
-                force[scene.vertex_dofs()[cell->vertex_index(a)][i]] +=
-                  0.25 * cell_mass * gravity[i];
+                force[scene.vertex_dofs()[cell->vertex_index(a)][i]] += load[i];
           }
         std::ostringstream line;
         line << "gravity: (" << gravity << ") m/s^2, tissue mass " << mass

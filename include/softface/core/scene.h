@@ -150,6 +150,14 @@ namespace softface
                listed->second :
                mass_density_otherwise;
     }
+    /// The load (N) on each vertex of a tetrahedron of @p cell_mass (kg):
+    /// a quarter of its weight, the consistent P1 load of a constant body
+    /// force. The scene's effect and each rank's part sum it alike.
+    Tensor<1, 3>
+    vertex_load(const double cell_mass) const
+    {
+      return 0.25 * cell_mass * acceleration;
+    }
 
     /// Constraints on free vertices (sliding contact, the lips' contact).
     std::vector<VertexConstraint> vertex_constraints;
