@@ -16,6 +16,7 @@
 
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
+#include <softface/core/sub_communicator.h>
 #include <softface/core/tetrahedron.h>
 
 #include <algorithm>
@@ -132,10 +133,13 @@ namespace softface
                       "share one root that describes their parts of the "
                       "mesh (in one walk over it) and sends them (deal.II's "
                       "partitioning in groups). 1: every rank describes its "
-                      "own part. Every rank still builds the whole scene "
-                      "today, so a group saves its members no memory yet and "
-                      "costs its root time: keep 1 until members hold no "
-                      "scene (issue 20).");
+                      "own part. Where every model of the run reads only its "
+                      "part on the ranks (linear FEM with 'cg amg'), a "
+                      "group's members then hold none of the scene's cells, "
+                      "only its arrays per vertex and DoF: one group per "
+                      "node (G = ranks per node) holds the serial mesh once "
+                      "per node. With any other model every rank holds the "
+                      "whole scene, and a group only costs its root time.");
   }
 
   SharedDistributedLayout::SharedDistributedLayout(
@@ -574,21 +578,7 @@ namespace softface
       // unrefined mesh (softface's meshes are).
       AssertThrow(scene.triangulation.n_levels() <= 1,
                   ExcMessage("A refined mesh cannot be distributed yet."));
-      // The roots' communicator, freed however this block ends.
-      struct Roots
-      {
-        MPI_Comm communicator = MPI_COMM_NULL;
-        ~Roots()
-        {
-          if (communicator != MPI_COMM_NULL)
-            MPI_Comm_free(&communicator);
-        }
-      } roots;
-      const int error = MPI_Comm_split(communicator,
-                                       rank == root ? 0 : MPI_UNDEFINED,
-                                       rank,
-                                       &roots.communicator);
-      AssertThrowMPI(error);
+      const SubCommunicator roots(communicator, rank == root);
       if (rank == root)
         {
           std::vector<types::subdomain_id> owner;
@@ -667,6 +657,12 @@ namespace softface
   void
   DistributedLayout::decide_body_force()
   {
+    // Every rank must answer alike (the vector below is collective): a
+    // member's scene has the body force rank 0 sent (Scene::has_cells()).
+    AssertThrow(
+      Utilities::MPI::min(int(scene.has_body_force()), communicator) ==
+        Utilities::MPI::max(int(scene.has_body_force()), communicator),
+      ExcMessage("The ranks disagree on the body force."));
     if (!scene.has_body_force())
       return;
     // A quarter of each cell's weight on each vertex, as the scene's effect

@@ -229,8 +229,8 @@ namespace softface
     const auto is_moved = [&moved](const unsigned int segment) {
       return segment < moved.size() && moved[segment];
     };
-    Vector<double> u(scene.dof_handler.n_dofs());
-    const auto    &vertices = scene.triangulation.get_vertices();
+    Vector<double> u(scene.n_dofs());
+    const auto    &vertices = scene.vertices();
     for (unsigned int v = 0; v < vertices.size(); ++v)
       {
         const unsigned int segment = scene.vertex_segment()[v];

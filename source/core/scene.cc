@@ -16,10 +16,15 @@
 #include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
 
+#include <boost/archive/binary_iarchive.hpp>
+#include <boost/archive/binary_oarchive.hpp>
+#include <boost/serialization/map.hpp>
+#include <boost/serialization/set.hpp>
 #include <boost/serialization/string.hpp>
 #include <boost/serialization/utility.hpp>
 #include <boost/serialization/vector.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <iterator>
 #include <map>
@@ -155,9 +160,12 @@ namespace softface
   Scene::parse_parameters(ParameterHandler  &prm,
                           const std::string &input_directory,
                           const std::string &patient_work_directory,
-                          std::ostream      *log)
+                          std::ostream      *log,
+                          const MPI_Comm     mesh_readers)
   {
     material.parse_parameters(prm);
+    // A rank outside the readers holds no cells: share_without_cells().
+    holds_cells = mesh_readers != MPI_COMM_NULL;
 
     prm.enter_subsection("Scene");
     const std::string    source = prm.get("Mesh source");
@@ -194,7 +202,8 @@ namespace softface
 
     if (source == "cube")
       {
-        Mesh::generate_cube(cube, triangulation);
+        if (holds_cells)
+          Mesh::generate_cube(cube, triangulation);
         mesh_description = "generated cube";
         cell_name        = {};
       }
@@ -241,9 +250,11 @@ namespace softface
             model.figures = Utilities::MPI::broadcast(world, model.figures);
           }
         patient_figures = model.figures;
-        cell_name =
-          Mesh::read_file_on_every_rank(world, read_from, triangulation);
-        if (several)
+        if (holds_cells)
+          cell_name = Mesh::read_file_on_every_rank(mesh_readers,
+                                                    read_from,
+                                                    triangulation);
+        if (several && holds_cells)
           {
             // An older mesh of the same name on a rank's own disk would
             // pass silently: the ranks compare what they read.
@@ -251,8 +262,8 @@ namespace softface
             for (const auto &vertex : triangulation.get_vertices())
               checksum += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
             const bool differs =
-              checksum != Utilities::MPI::broadcast(world, checksum);
-            if (Utilities::MPI::max(int(differs), world) != 0)
+              checksum != Utilities::MPI::broadcast(mesh_readers, checksum);
+            if (Utilities::MPI::max(int(differs), mesh_readers) != 0)
               throw Error("Scene: the ranks read different meshes from '" +
                           read_from +
                           "', which rank 0's patient pipeline wrote: the "
@@ -271,11 +282,108 @@ namespace softface
           throw Error("Scene: 'Mesh source = file' needs a 'Mesh file'.");
         if (file[0] != '/' && !input_directory.empty())
           file = input_directory + "/" + file;
-        cell_name =
-          Mesh::read_file_on_every_rank(MPI_COMM_WORLD, file, triangulation);
+        if (holds_cells)
+          cell_name =
+            Mesh::read_file_on_every_rank(mesh_readers, file, triangulation);
         mesh_description = "'" + file + "'";
       }
-    setup();
+    if (holds_cells)
+      setup();
+  }
+
+  void
+  Scene::share_without_cells(const MPI_Comm communicator)
+  {
+    const bool sends = Utilities::MPI::this_mpi_process(communicator) == 0;
+    AssertThrow(!sends || holds_cells,
+                ExcMessage("Rank 0 shares a scene it holds."));
+    // What is not an array per vertex or DoF goes as one archive, with the
+    // arrays' lengths; the arrays follow as they are. A rank that holds the
+    // cells takes part and keeps its own.
+    std::uint64_t n_vertices_in_all = 0, n_dofs_in_all = 0,
+                  n_body_force_in_all = 0;
+    std::string small;
+    if (sends)
+      {
+        n_vertices_in_all            = triangulation.n_vertices();
+        n_dofs_in_all                = dof_handler.n_dofs();
+        n_body_force_in_all          = effects.body_force.size();
+        std::uint64_t n_cells_in_all = triangulation.n_active_cells(),
+                      n_used         = triangulation.n_used_vertices();
+        std::ostringstream              stream;
+        boost::archive::binary_oarchive archive(stream);
+        archive << n_vertices_in_all << n_dofs_in_all << n_body_force_in_all
+                << n_cells_in_all << n_used << segments
+                << resolve_shared_join_points << n_shared_join_points
+                << mesh_description << n_joins_of_segment << point_blocks;
+        effects.serialize_rules(archive);
+        small = stream.str();
+      }
+    small = Utilities::MPI::broadcast(communicator, small, 0);
+    if (!sends)
+      {
+        std::istringstream              stream(small);
+        boost::archive::binary_iarchive archive(stream);
+        std::uint64_t                   n_cells_in_all = 0, n_used = 0;
+        archive >> n_vertices_in_all >> n_dofs_in_all >> n_body_force_in_all >>
+          n_cells_in_all >> n_used;
+        if (!holds_cells)
+          {
+            archive >> segments >> resolve_shared_join_points >>
+              n_shared_join_points >> mesh_description >> n_joins_of_segment >>
+              point_blocks;
+            effects.serialize_rules(archive);
+            n_cells_without_cells         = n_cells_in_all;
+            n_used_vertices_without_cells = n_used;
+            n_dofs_without_cells          = n_dofs_in_all;
+          }
+      }
+
+    // The arrays: to a rank with the cells into scratch space.
+    std::vector<Point<3>>                               vertices_in_all;
+    std::vector<std::array<types::global_dof_index, 3>> dofs_in_all;
+    std::vector<unsigned int>                           segment_in_all;
+    std::vector<unsigned char>                          join_in_all;
+    Vector<double>                                      body_force_in_all;
+    const bool keeps     = !sends && !holds_cells;
+    const bool own       = sends || keeps;
+    auto      &positions = keeps ? vertices_without_cells : vertices_in_all;
+    auto      &dofs      = own ? vertex_dof_indices : dofs_in_all;
+    auto      &segment   = own ? segment_of_vertex : segment_in_all;
+    auto      &force     = own ? effects.body_force : body_force_in_all;
+    if (sends)
+      {
+        join_in_all.assign(is_join_dof.begin(), is_join_dof.end());
+        positions = triangulation.get_vertices();
+      }
+    else
+      {
+        positions.resize(n_vertices_in_all);
+        dofs.resize(n_vertices_in_all);
+        segment.resize(n_vertices_in_all);
+        join_in_all.resize(n_dofs_in_all);
+        force.reinit(n_body_force_in_all);
+      }
+    static_assert(sizeof(Point<3>) == 3 * sizeof(double) &&
+                    sizeof(dofs[0]) == 3 * sizeof(types::global_dof_index),
+                  "points and DoF triples are sent as plain arrays");
+    Utilities::MPI::broadcast(reinterpret_cast<double *>(positions.data()),
+                              3 * positions.size(),
+                              0,
+                              communicator);
+    Utilities::MPI::broadcast(reinterpret_cast<types::global_dof_index *>(
+                                dofs.data()),
+                              3 * dofs.size(),
+                              0,
+                              communicator);
+    Utilities::MPI::broadcast(segment.data(), segment.size(), 0, communicator);
+    Utilities::MPI::broadcast(join_in_all.data(),
+                              join_in_all.size(),
+                              0,
+                              communicator);
+    Utilities::MPI::broadcast(force.begin(), force.size(), 0, communicator);
+    if (keeps)
+      is_join_dof.assign(join_in_all.begin(), join_in_all.end());
   }
 
   void
@@ -464,7 +572,26 @@ namespace softface
   unsigned int
   Scene::n_vertices() const
   {
-    return triangulation.n_used_vertices();
+    return holds_cells ? triangulation.n_used_vertices() :
+                         n_used_vertices_without_cells;
+  }
+
+  unsigned int
+  Scene::n_cells() const
+  {
+    return holds_cells ? triangulation.n_active_cells() : n_cells_without_cells;
+  }
+
+  types::global_dof_index
+  Scene::n_dofs() const
+  {
+    return holds_cells ? dof_handler.n_dofs() : n_dofs_without_cells;
+  }
+
+  const std::vector<Point<3>> &
+  Scene::vertices() const
+  {
+    return holds_cells ? triangulation.get_vertices() : vertices_without_cells;
   }
 
   unsigned int

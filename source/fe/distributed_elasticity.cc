@@ -73,7 +73,8 @@ namespace softface
       const Scene    &scene = layout->scene;
       const MPI_Comm  comm  = layout->communicator;
       const IndexSet &owned = layout->locally_owned_dofs;
-      // Every rank holds the same scene, so every rank refuses alike.
+      // Every rank holds the scene's vertex constraints (a member without
+      // its cells too), so every rank refuses alike.
       if (scene.has_vertex_constraints())
         throw Error("Linear elasticity on several MPI ranks does not honour "
                     "vertex constraints (sliding contact, separated lips) "

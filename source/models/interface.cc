@@ -85,6 +85,12 @@ namespace softface
       return false;
     }
 
+    bool
+    Interface::runs_without_scene_cells() const
+    {
+      return false;
+    }
+
     void
     Interface::setup(const Scene &scene)
     {

@@ -68,6 +68,12 @@ namespace softface
       return !has_unilateral_contact(scene);
     }
 
+    bool
+    LinearFEM::runs_without_scene_cells() const
+    {
+      return solver_parameters.method == "cg amg";
+    }
+
     void
     LinearFEM::set_solver(const std::string &name, const double tolerance)
     {

@@ -59,7 +59,7 @@ namespace softface
       };
       current = "the body force alone";
       if (scene->has_body_force())
-        offset = solve(Vector<double>(scene->dof_handler.n_dofs()));
+        offset = solve(Vector<double>(scene->n_dofs()));
 
       for (const unsigned int s : segments)
         {
@@ -73,7 +73,7 @@ namespace softface
           // join points (a plan's size) and scaled back.
           double reach = 0.;
           {
-            const auto &vertices = scene->triangulation.get_vertices();
+            const auto &vertices = scene->vertices();
             for (unsigned int v = 0; v < vertices.size(); ++v)
               if (scene->vertex_segment()[v] == s)
                 for (unsigned int d = 0; d < 3; ++d)
@@ -149,7 +149,7 @@ namespace softface
               }
         }
 
-      const unsigned int n = scene->dof_handler.n_dofs();
+      const unsigned int n = scene->n_dofs();
       displacement.reinit(n, /*omit_zeroing_entries=*/true);
       // One pass, in contiguous ranges on the threads: every entry is
       // written once from the same terms in the same order.

@@ -3,9 +3,12 @@
 // and the scene's labels for ParaView, and per-vertex CSVs.
 
 #include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
 #include <softface/simulator/output.h>
@@ -39,16 +42,67 @@ namespace softface
 
     namespace
     {
+      /// A vertex's join flag (1: a join point) and segment id (-1: free)
+      /// of its segment @p s.
+      template <typename Number>
+      void
+      set_vertex_flags(const unsigned int s, Number &join, Number &segment)
+      {
+        join    = (s == numbers::invalid_unsigned_int) ? 0. : 1.;
+        segment = (s == numbers::invalid_unsigned_int) ? -1. : s;
+      }
+
       /**
-       * The fields of write_vtu() on the cells [first_cell, end_cell) of the
-       * scene's order, ready to write (DataOut refers to the vectors here).
+       * The fields of write_vtu(), named and ordered as it writes them, into
+       * @p data_out (attached to their mesh): each successful run's
+       * displacement (@p displacements, in the runs' order) on
+       * @p vector_dofs, the join flags and segment ids on @p scalar_dofs, the
+       * cells' material ids. Patches built, ready to write; DataOut refers
+       * to the vectors.
+       */
+      template <typename Displacement, typename PerVertex>
+      void
+      add_fields(DataOut<3>                              &data_out,
+                 const DoFHandler<3>                     &vector_dofs,
+                 const std::vector<Report::ModelRun>     &runs,
+                 const std::vector<const Displacement *> &displacements,
+                 const DoFHandler<3>                     &scalar_dofs,
+                 const PerVertex                         &join_flag,
+                 const PerVertex                         &segment_id,
+                 const Vector<float>                     &material,
+                 const Mapping<3>                        &mapping)
+      {
+        const std::vector<
+          DataComponentInterpretation::DataComponentInterpretation>
+          vector(3, DataComponentInterpretation::component_is_part_of_vector);
+        unsigned int next = 0;
+        for (const Report::ModelRun &run : runs)
+          if (!run.failed)
+            data_out.add_data_vector(vector_dofs,
+                                     *displacements[next++],
+                                     std::vector<std::string>(3,
+                                                              "displacement_" +
+                                                                file_name_of(
+                                                                  run.label())),
+                                     vector);
+        data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
+        data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
+        data_out.add_data_vector(material, "material_id");
+        data_out.build_patches(mapping);
+        // zlib at its strongest spends seconds on large meshes for little
+        // gain.
+        DataOutBase::VtkFlags flags;
+        flags.compression_level = DataOutBase::VtkFlags::best_speed;
+        data_out.set_flags(flags);
+      }
+
+      /**
+       * The fields of write_vtu() on the scene's cells, ready to write
+       * (DataOut refers to the vectors here).
        */
       struct Fields
       {
-        Fields(const Scene                         &scene,
-               const std::vector<Report::ModelRun> &runs,
-               const unsigned int                   first_cell,
-               const unsigned int                   end_cell);
+        Fields(const Scene &scene, const std::vector<Report::ModelRun> &runs);
 
         // Per-vertex flags live on a scalar P1 layout beside the vector one.
         DoFHandler<3>  scalar_dofs;
@@ -58,9 +112,7 @@ namespace softface
       };
 
       Fields::Fields(const Scene                         &scene,
-                     const std::vector<Report::ModelRun> &runs,
-                     const unsigned int                   first_cell,
-                     const unsigned int                   end_cell)
+                     const std::vector<Report::ModelRun> &runs)
       {
         scalar_dofs.reinit(scene.triangulation);
         scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
@@ -69,56 +121,29 @@ namespace softface
         for (const auto &cell : scalar_dofs.active_cell_iterators())
           for (const unsigned int v : cell->vertex_indices())
             {
-              const unsigned int s =
-                scene.vertex_segment()[cell->vertex_index(v)];
-              const auto dof  = cell->vertex_dof_index(v, 0);
-              join_flag[dof]  = (s == numbers::invalid_unsigned_int) ? 0. : 1.;
-              segment_id[dof] = (s == numbers::invalid_unsigned_int) ? -1. : s;
+              const auto dof = cell->vertex_dof_index(v, 0);
+              set_vertex_flags(scene.vertex_segment()[cell->vertex_index(v)],
+                               join_flag[dof],
+                               segment_id[dof]);
             }
-
-        using Cell          = typename Triangulation<3>::cell_iterator;
-        const auto in_range = [first_cell, end_cell](const Cell &cell) {
-          return cell->is_active() && cell->active_cell_index() >= first_cell &&
-                 cell->active_cell_index() < end_cell;
-        };
-        const auto next_in_range = [in_range](const Triangulation<3> &tria,
-                                              const Cell             &cell) {
-          Cell next = cell;
-          for (++next; next != tria.end() && !in_range(next); ++next)
-            ;
-          return next;
-        };
-        data_out.set_cell_selection(
-          [in_range, next_in_range](const Triangulation<3> &tria) {
-            const Cell first = tria.begin();
-            return in_range(first) ? first : next_in_range(tria, first);
-          },
-          next_in_range);
-        data_out.attach_triangulation(scene.triangulation);
-        const std::vector<
-          DataComponentInterpretation::DataComponentInterpretation>
-          vector(3, DataComponentInterpretation::component_is_part_of_vector);
-        for (const Report::ModelRun &run : runs)
-          if (!run.failed)
-            data_out.add_data_vector(scene.dof_handler,
-                                     run.displacement,
-                                     std::vector<std::string>(3,
-                                                              "displacement_" +
-                                                                file_name_of(
-                                                                  run.label())),
-                                     vector);
-        data_out.add_data_vector(scalar_dofs, join_flag, "join_point");
-        data_out.add_data_vector(scalar_dofs, segment_id, "segment_id");
         material.reinit(scene.triangulation.n_active_cells());
         for (const auto &cell : scene.triangulation.active_cell_iterators())
           material[cell->active_cell_index()] = cell->material_id();
-        data_out.add_data_vector(material, "material_id");
-        data_out.build_patches(scene.mapping);
-        // zlib at its strongest spends seconds on large meshes for little
-        // gain.
-        DataOutBase::VtkFlags flags;
-        flags.compression_level = DataOutBase::VtkFlags::best_speed;
-        data_out.set_flags(flags);
+
+        std::vector<const Vector<double> *> displacements;
+        for (const Report::ModelRun &run : runs)
+          if (!run.failed)
+            displacements.push_back(&run.displacement);
+        data_out.attach_triangulation(scene.triangulation);
+        add_fields(data_out,
+                   scene.dof_handler,
+                   runs,
+                   displacements,
+                   scalar_dofs,
+                   join_flag,
+                   segment_id,
+                   material,
+                   scene.mapping);
       }
     } // namespace
 
@@ -147,33 +172,96 @@ namespace softface
       if (filename.size() > 4 &&
           filename.compare(filename.size() - 4, 4, ".vtu") == 0)
         remove_stale_fields(filename.substr(0, filename.size() - 4), 1);
-      const Fields fields(scene, runs, 0, scene.triangulation.n_active_cells());
+      const Fields  fields(scene, runs);
       std::ofstream out = open_output_file(filename);
       fields.data_out.write_vtu(out);
     }
 
     void
-    write_pvtu(const Scene                         &scene,
+    write_pvtu(const DistributedLayout             &layout,
                const std::vector<Report::ModelRun> &runs,
-               const std::string                   &stem,
-               const MPI_Comm                       communicator)
+               const std::string                   &stem)
     {
+      const MPI_Comm     communicator = layout.communicator;
       const unsigned int n_ranks =
         Utilities::MPI::n_mpi_processes(communicator);
-      const unsigned int  rank = Utilities::MPI::this_mpi_process(communicator);
-      const std::uint64_t n_cells = scene.triangulation.n_active_cells();
-      // The cells c with c * n_ranks / n_cells == rank, as the 'cell order'
-      // partition gives them.
-      const auto first_of = [&](const unsigned int r) {
-        return static_cast<unsigned int>(
-          (std::uint64_t(r) * n_cells + n_ranks - 1) / n_ranks);
-      };
-      const Fields      fields(scene, runs, first_of(rank), first_of(rank + 1));
+      const unsigned int rank = Utilities::MPI::this_mpi_process(communicator);
+      const auto         vertex_cell =
+        [&layout](const DoFHandler<3>::active_cell_iterator &cell) {
+          return DoFHandler<3>::active_cell_iterator(&layout.triangulation,
+                                                     cell->level(),
+                                                     cell->index(),
+                                                     &layout.dof_handler);
+        };
+
+      // The values at the vertices of the rank's own cells (the cells
+      // DataOut writes), from the whole answers every rank holds; ghost
+      // entries are set here, so no exchange is needed.
+      using Values = LinearAlgebra::distributed::Vector<double>;
+      std::vector<Values> displacements;
+      for (const Report::ModelRun &run : runs)
+        if (!run.failed)
+          {
+            Values u(layout.locally_owned_dofs,
+                     layout.locally_relevant_dofs,
+                     communicator);
+            for (const auto &cell : layout.dof_handler.active_cell_iterators())
+              if (cell->is_locally_owned())
+                for (const unsigned int v : cell->vertex_indices())
+                  for (unsigned int c = 0; c < 3; ++c)
+                    {
+                      const auto dof = cell->vertex_dof_index(v, c);
+                      u(dof)         = run.displacement[layout.serial_dof(dof)];
+                    }
+            u.set_ghost_state(true);
+            displacements.push_back(std::move(u));
+          }
+      DoFHandler<3> scalar_dofs(layout.triangulation);
+      scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
+      IndexSet scalar_relevant;
+      DoFTools::extract_locally_relevant_dofs(scalar_dofs, scalar_relevant);
+      Values        join_flag(scalar_dofs.locally_owned_dofs(),
+                       scalar_relevant,
+                       communicator);
+      Values        segment_id(join_flag);
+      Vector<float> material(layout.triangulation.n_active_cells());
+      for (const auto &cell : scalar_dofs.active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            material[cell->active_cell_index()] = cell->material_id();
+            const auto with_vector_dofs         = vertex_cell(cell);
+            for (const unsigned int v : cell->vertex_indices())
+              {
+                const auto dof = cell->vertex_dof_index(v, 0);
+                set_vertex_flags(layout.join_segment_of_dof(
+                                   with_vector_dofs->vertex_dof_index(v, 0)),
+                                 join_flag(dof),
+                                 segment_id(dof));
+              }
+          }
+      join_flag.set_ghost_state(true);
+      segment_id.set_ghost_state(true);
+
+      std::vector<const Values *> pointers;
+      for (const Values &u : displacements)
+        pointers.push_back(&u);
+      DataOut<3> data_out;
+      data_out.attach_triangulation(layout.triangulation);
+      add_fields(data_out,
+                 layout.dof_handler,
+                 runs,
+                 pointers,
+                 scalar_dofs,
+                 join_flag,
+                 segment_id,
+                 material,
+                 layout.scene.mapping);
+
       const std::string name = std::filesystem::path(stem).filename().string();
       {
         std::ofstream out =
           open_output_file(stem + "." + std::to_string(rank) + ".vtu");
-        fields.data_out.write_vtu(out);
+        data_out.write_vtu(out);
       }
       if (rank == 0)
         {
@@ -182,7 +270,7 @@ namespace softface
           for (unsigned int r = 0; r < n_ranks; ++r)
             pieces.push_back(name + "." + std::to_string(r) + ".vtu");
           std::ofstream out = open_output_file(stem + ".pvtu");
-          fields.data_out.write_pvtu_record(out, pieces);
+          data_out.write_pvtu_record(out, pieces);
         }
     }
 

@@ -86,13 +86,11 @@ namespace softface
           table.add_value("model", run.model);
           if (plans)
             table.add_value("plan", run.planning);
-          table.add_value("tets", scene.triangulation.n_active_cells());
+          table.add_value("tets", scene.n_cells());
           table.add_value("vertices", scene.n_vertices());
           table.add_value("free DoFs", scene.n_free_dofs());
           if (with_extras)
-            table.add_value("DoFs",
-                            s.n_dofs > 0 ? s.n_dofs :
-                                           scene.dof_handler.n_dofs());
+            table.add_value("DoFs", s.n_dofs > 0 ? s.n_dofs : scene.n_dofs());
           if (with_timings)
             {
               table.add_value("setup s", s.setup_time);
@@ -216,9 +214,9 @@ namespace softface
         {
           const auto &s = run.statistics;
           out << csv_field(run.model) << ',' << (run.failed ? "failed" : "ok")
-              << ',' << scene.triangulation.n_active_cells() << ','
-              << scene.n_vertices() << ',' << scene.n_free_dofs() << ','
-              << (s.n_dofs > 0 ? s.n_dofs : scene.dof_handler.n_dofs()) << ',';
+              << ',' << scene.n_cells() << ',' << scene.n_vertices() << ','
+              << scene.n_free_dofs() << ','
+              << (s.n_dofs > 0 ? s.n_dofs : scene.n_dofs()) << ',';
           if (run.failed)
             out << ",,,,,,,,";
           else

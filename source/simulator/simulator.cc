@@ -14,6 +14,7 @@
 #include <softface/core/planning_list.h>
 #include <softface/core/process.h>
 #include <softface/core/scene.h>
+#include <softface/core/sub_communicator.h>
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/fe/point_evaluation.h>
@@ -264,6 +265,9 @@ namespace softface
     // On several MPI ranks every rank runs the scene; rank 0 alone writes
     // the outputs.
     bool writes_outputs = true;
+    // On several MPI ranks: the partition the distributed models share, and
+    // on which the ranks write their pieces of the fields.
+    std::shared_ptr<SharedDistributedLayout> layout;
   };
 
   Simulator::Simulator()  = default;
@@ -357,13 +361,13 @@ namespace softface
         if (n_ranks > 1)
           {
             prm.enter_subsection("Models");
-            const auto layout = std::make_shared<SharedDistributedLayout>(
+            state->layout = std::make_shared<SharedDistributedLayout>(
               MPI_COMM_WORLD,
               DistributedLayout::parse_partitioner(prm.get("Partitioner")),
               prm.get_integer("Mesh group size"));
             prm.leave_subsection();
             for (auto &model : models)
-              model.second->set_shared_layout(layout);
+              model.second->set_shared_layout(state->layout);
           }
         // Every selected model must simulate every effect the scene calls
         // for; this is known before any work.
@@ -394,31 +398,59 @@ namespace softface
     state->input_directory = input_directory;
     the_scene              = std::make_unique<Scene>();
     Scene &scene           = *the_scene;
-    scene.parse_parameters(prm,
-                           input_directory,
-                           output.directory + "/patient",
-                           &out);
+    // In groups of ranks (Models/Mesh group size) whose models all read
+    // nothing of the scene's cells, the members hold none: each group's
+    // root reads or makes the mesh, and rank 0 sends the members the rest.
+    const bool members_without_cells =
+      state->layout != nullptr && state->layout->group_size > 1 &&
+      std::all_of(models.begin(), models.end(), [](const auto &model) {
+        return model.second->runs_without_scene_cells();
+      });
+    const bool holds_cells = !members_without_cells ||
+                             Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) %
+                                 state->layout->group_size ==
+                               0;
+    {
+      std::unique_ptr<SubCommunicator> readers;
+      if (members_without_cells)
+        readers =
+          std::make_unique<SubCommunicator>(MPI_COMM_WORLD, holds_cells);
+      scene.parse_parameters(prm,
+                             input_directory,
+                             output.directory + "/patient",
+                             &out,
+                             readers ? readers->communicator : MPI_COMM_WORLD);
+    }
     // Effects that change the mesh (a slit, contact faces) do so before
     // the models see it; the DoFs and join points are then found again.
     PlanningList &plannings = state->plannings;
     try
       {
-        bool mesh_changed = false;
-        for (const auto &[name, effect] : effects)
+        if (scene.has_cells())
           {
-            const std::string line = effect->prepare_mesh(scene);
-            if (!line.empty())
-              out << "  effect " << line << std::endl;
-            mesh_changed |= !line.empty();
+            bool mesh_changed = false;
+            for (const auto &[name, effect] : effects)
+              {
+                const std::string line = effect->prepare_mesh(scene);
+                if (!line.empty())
+                  out << "  effect " << line << std::endl;
+                mesh_changed |= !line.empty();
+              }
+            if (mesh_changed)
+              scene.setup();
+            plannings.parse_parameters(prm, scene);
+            for (const auto &[name, effect] : effects)
+              {
+                const std::string summary = effect->apply(scene);
+                scene.effects.names.push_back(name);
+                out << "  effect " << summary << std::endl;
+              }
           }
-        if (mesh_changed)
-          scene.setup();
-        plannings.parse_parameters(prm, scene);
-        for (const auto &[name, effect] : effects)
+        if (members_without_cells)
           {
-            const std::string summary = effect->apply(scene);
-            scene.effects.names.push_back(name);
-            out << "  effect " << summary << std::endl;
+            scene.share_without_cells(MPI_COMM_WORLD);
+            if (!scene.has_cells())
+              plannings.parse_parameters(prm, scene);
           }
       }
     catch (const Error &e)
@@ -426,14 +458,28 @@ namespace softface
         throw Error(filename + ": " + e.what());
       }
 
-    out << "  mesh " << scene.mesh_description << ": "
-        << scene.triangulation.n_active_cells() << " tetrahedra, "
-        << scene.n_vertices() << " vertices, " << scene.n_free_dofs()
-        << " free DoFs (" << std::fixed << std::setprecision(2)
-        << wall.wall_time() << " s)" << std::endl;
+    out << "  mesh " << scene.mesh_description << ": " << scene.n_cells()
+        << " tetrahedra, " << scene.n_vertices() << " vertices, "
+        << scene.n_free_dofs() << " free DoFs (" << std::fixed
+        << std::setprecision(2) << wall.wall_time() << " s)" << std::endl;
     for (unsigned int s = 0; s < scene.segments.size(); ++s)
       out << "  segment '" << scene.segments[s].name
           << "': " << scene.n_join_vertices(s) << " join points" << std::endl;
+    if (state->layout != nullptr && state->layout->group_size > 1)
+      {
+        out << "  MPI ranks: " << n_ranks << " in groups of "
+            << state->layout->group_size << "; ";
+        const auto needs_cells =
+          std::find_if(models.begin(), models.end(), [](const auto &model) {
+            return !model.second->runs_without_scene_cells();
+          });
+        if (members_without_cells)
+          out << "the groups' members hold none of the scene's cells";
+        else
+          out << "every rank holds the scene's cells ('" << needs_cells->first
+              << "' needs them)";
+        out << std::endl;
+      }
 
     auto &evaluation = state->evaluation;
     if (!output.evaluation_points.empty())
@@ -444,15 +490,19 @@ namespace softface
         const auto points = read_points_csv(points_file.string());
         try
           {
-            evaluation =
-              std::make_unique<PointEvaluation>(scene.triangulation, points);
+            // Rank 0 writes the values (and may be the only rank with the
+            // cells); its error is every rank's.
+            on_rank_0(MPI_COMM_WORLD, [&]() {
+              evaluation =
+                std::make_unique<PointEvaluation>(scene.triangulation, points);
+            });
           }
         catch (const Error &e)
           {
             throw Error("Output/Evaluation points '" + points_file.string() +
                         "': " + e.what());
           }
-        out << "  " << evaluation->points().size() << " evaluation points from "
+        out << "  " << points.size() << " evaluation points from "
             << points_file.string() << std::endl;
       }
 
@@ -521,7 +571,7 @@ namespace softface
       // A join point moved by many times the mesh's size is a planning in
       // the wrong units (or a typo), not surgery: refused before any model
       // runs into overflow.
-      const auto &vertices = scene.triangulation.get_vertices();
+      const auto &vertices = scene.vertices();
       Point<3>    low = vertices[0], high = vertices[0];
       for (const auto &x : vertices)
         for (unsigned int d = 0; d < 3; ++d)
@@ -843,18 +893,20 @@ namespace softface
     // On several ranks each writes its piece of the fields, in rank 0's
     // folder (the only one made).
     if (output.write_vtu && n_ranks > 1)
-      Output::write_pvtu(scene,
+      Output::write_pvtu(state->layout->get(scene),
                          model_runs,
                          Utilities::MPI::broadcast(MPI_COMM_WORLD,
                                                    output.directory,
                                                    0) +
-                           "/solution",
-                         MPI_COMM_WORLD);
+                           "/solution");
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);
     const double peak_mb =
       Utilities::MPI::max(memory.VmHWM / 1024., MPI_COMM_WORLD);
+    // The ranks differ where a group's members hold no scene cells.
+    const double smallest_peak_mb =
+      Utilities::MPI::min(memory.VmHWM / 1024., MPI_COMM_WORLD);
     out << "\nOutputs in " << output.directory << "/ (summary.csv, statistics"
         << (!output.write_vtu ? "" :
             n_ranks > 1       ? ", solution.pvtu with a piece per rank" :
@@ -870,7 +922,10 @@ namespace softface
         << Threads::n_threads()
         << (Threads::n_threads() == 1 ? " thread" : " threads")
         << "), peak memory " << std::fixed << std::setprecision(0) << peak_mb
-        << (n_ranks > 1 ? " MB (the largest rank)" : " MB") << std::endl;
+        << " MB";
+    if (n_ranks > 1)
+      out << " (the largest rank; the smallest " << smallest_peak_mb << " MB)";
+    out << std::endl;
     if (n_failed > 0)
       {
         std::string names;

@@ -68,9 +68,9 @@ namespace softface
   };
 
   /**
-   * The scene's P1 layout on the ranks of an MPI communicator (issue 20, a
-   * first step). Every rank holds the whole scene as a serial run does (its
-   * mesh, segments, join points and effects); the cells are partitioned among
+   * The scene's P1 layout on the ranks of an MPI communicator (issue 20).
+   * Every rank holds the scene's segments, join points and effects, and the
+   * root of each group of ranks its mesh; the cells are partitioned among
    * the ranks (cell_owners()), and each rank builds a
    * parallel::fullydistributed::Triangulation of its cells and their ghosts
    * (simplex meshes need the fully distributed kind), described from the
@@ -90,10 +90,10 @@ namespace softface
    * outputs use (gather()).
    *
    * The parts are described by the root of each group of ranks and sent to
-   * its members, which read nothing of the scene's mesh to build theirs;
-   * but every rank still holds the whole scene, which bounds the mesh a run
-   * can hold by one rank's memory. Members without the scene's mesh are the
-   * next step.
+   * its members, which read nothing of the scene's mesh to build theirs; a
+   * member's scene may hold no cells at all (Scene::has_cells(): the run's
+   * models read only their part), only the arrays per vertex and DoF and
+   * the rules rank 0 sent it.
    */
   class DistributedLayout
   {

@@ -57,6 +57,13 @@ namespace softface
 
     double youngs_modulus_pa = 3000.;
     double poissons_ratio    = 0.46;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &youngs_modulus_pa &poissons_ratio;
+    }
   };
 } // namespace softface
 

@@ -1,6 +1,7 @@
 #ifndef softface_scene_h
 #define softface_scene_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/base/tensor.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -43,6 +44,15 @@ namespace softface
     /// The mean of its join points when first found (the default rotation
     /// centre): an effect that later frees some of them does not move it.
     std::vector<double> join_centroid = {};
+
+    /// For Scene::share_without_cells() (Boost serialisation).
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &name &material_ids &boundary_ids &seed_point
+        &carries_contact_only &join_centroid;
+    }
   };
 
   /**
@@ -94,6 +104,13 @@ namespace softface
     Tensor<1, 3> normal;
     unsigned int segment    = numbers::invalid_unsigned_int;
     bool         unilateral = false;
+
+    template <class Archive>
+    void
+    serialize(Archive &archive, const unsigned int)
+    {
+      archive &vertex &partner &normal &segment &unilateral;
+    }
   };
 
   /**
@@ -169,6 +186,17 @@ namespace softface
     {
       return max_active_set_iterations > 0 ? max_active_set_iterations : 50;
     }
+
+    /// All but the arrays per cell and per DoF, which
+    /// Scene::share_without_cells() leaves out or sends as arrays.
+    template <class Archive>
+    void
+    serialize_rules(Archive &archive)
+    {
+      archive &names &tissues &tissue_of_material_id
+        &mass_density_of_material_id &mass_density_otherwise &acceleration
+          &vertex_constraints &max_active_set_iterations;
+    }
   };
 
   /**
@@ -210,12 +238,41 @@ namespace softface
      * names one, with its progress on @p log) and call setup(). For a
      * patient scene under MPI this is collective on MPI_COMM_WORLD: rank 0
      * runs the pipeline and every rank reads the mesh it wrote.
+     *
+     * A read mesh is read by the ranks of @p mesh_readers (collectively;
+     * rank 0 of MPI_COMM_WORLD among them). On a rank where it is
+     * MPI_COMM_NULL the scene gets no cells: it parses the parameters only
+     * and waits for share_without_cells().
      */
     void
     parse_parameters(ParameterHandler  &prm,
                      const std::string &input_directory,
                      const std::string &patient_work_directory = "patient",
-                     std::ostream      *log                    = nullptr);
+                     std::ostream      *log                    = nullptr,
+                     const MPI_Comm     mesh_readers = MPI_COMM_WORLD);
+
+    /**
+     * Whether this rank holds the scene's cells (its triangulation and
+     * DoFHandler). It does not on a member of a group of MPI ranks
+     * (Models/Mesh group size) whose run needs no serial mesh on every rank
+     * (issue 20): such a scene holds what rank 0 sent it
+     * (share_without_cells()), the arrays per vertex and per DoF (positions,
+     * DoFs, segments, join flags, the body force), the segments and the
+     * effects' rules, but no cell, nor the effects' arrays per cell.
+     */
+    bool
+    has_cells() const
+    {
+      return holds_cells;
+    }
+
+    /**
+     * Rank 0's scene to the ranks of @p communicator whose scene has no
+     * cells (parse_parameters() without a mesh), once rank 0 has set it up
+     * and applied the effects. Collective; rank 0 must hold the cells.
+     */
+    void
+    share_without_cells(const MPI_Comm communicator);
 
     /**
      * Check the cells, distribute the DoFs, find the join points of every
@@ -230,6 +287,15 @@ namespace softface
 
     unsigned int
     n_vertices() const;
+    /// The mesh's cells (also where this rank holds none, has_cells()).
+    unsigned int
+    n_cells() const;
+    /// The DoFs of the one layout (dof_handler.n_dofs(), also without it).
+    types::global_dof_index
+    n_dofs() const;
+    /// The mesh's vertices (triangulation.get_vertices(), also without it).
+    const std::vector<Point<3>> &
+    vertices() const;
     unsigned int
     n_free_dofs() const;
     unsigned int
@@ -289,10 +355,12 @@ namespace softface
     {
       return effects.tissues.empty() ? material : effects.tissues[t];
     }
-    /// The tissue of the cell with active cell index @p c.
+    /// The tissue of the cell with active cell index @p c (where this rank
+    /// holds the cells: has_cells()).
     unsigned int
     tissue_of_cell(const unsigned int c) const
     {
+      Assert(holds_cells, ExcMessage("This rank holds no cell of the scene."));
       return effects.tissue_of_cell.empty() ? 0 : effects.tissue_of_cell[c];
     }
     bool
@@ -320,6 +388,13 @@ namespace softface
     std::vector<bool>                                   is_join_dof;
     std::vector<unsigned int>                           n_joins_of_segment;
     bool                                                point_blocks = false;
+
+    bool holds_cells = true;
+    /// Where this rank holds no cells: what the mesh would tell.
+    std::vector<Point<3>>   vertices_without_cells;
+    unsigned int            n_cells_without_cells         = 0;
+    unsigned int            n_used_vertices_without_cells = 0;
+    types::global_dof_index n_dofs_without_cells          = 0;
   };
 } // namespace softface
 

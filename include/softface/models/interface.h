@@ -161,6 +161,15 @@ namespace softface
       converged_equivalent() const;
 
       /**
+       * Whether the model, on several MPI ranks, reads nothing of the
+       * scene's cells (its triangulation, serial DoFHandler and arrays per
+       * cell), so that the members of a group of ranks (Models/Mesh group
+       * size) need not hold them (Scene::has_cells()). Default: false.
+       */
+      virtual bool
+      runs_without_scene_cells() const;
+
+      /**
        * That model's answer to the next solve()'s plan (referenced until
        * then); nullptr: none, the model solves the equations itself if it
        * needs them.

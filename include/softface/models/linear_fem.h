@@ -56,6 +56,10 @@ namespace softface
       /// True without unilateral contact (the active set is not linear).
       bool
       linear_in_motion(const Scene &scene) const override;
+      /// With 'cg amg' (the solver it has on several ranks): its ranks read
+      /// their part of the mesh (DistributedLayout) only.
+      bool
+      runs_without_scene_cells() const override;
 
       /// Set the solver in code ("gmres jacobi", "cg amg" or "direct").
       void

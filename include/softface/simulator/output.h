@@ -12,6 +12,8 @@
 
 namespace softface
 {
+  class DistributedLayout;
+
   /**
    * The fields a run writes: one VTU for ParaView with every model's
    * displacement and the scene's labels, and per-vertex displacement CSVs.
@@ -36,18 +38,17 @@ namespace softface
               const std::string                   &filename);
 
     /**
-     * The same fields on the ranks of @p communicator (issue 20): each rank
-     * writes the piece <stem>.<rank>.vtu of its cells (contiguous ranges of
-     * the scene's cell order, the 'cell order' partition) and rank 0 the
+     * The same fields on the ranks of @p layout (issue 20): each rank
+     * writes the piece <stem>.<rank>.vtu of the cells it owns and rank 0 the
      * record <stem>.pvtu that ParaView opens as one mesh (and removes a
-     * <stem>.vtu left by a serial run). Collective; the folder of @p stem
-     * must exist on every rank.
+     * <stem>.vtu left by a serial run). It reads the rank's part of the mesh
+     * and the whole answers, not the scene's cells. Collective; the folder
+     * of @p stem must exist on every rank.
      */
     void
-    write_pvtu(const Scene                         &scene,
+    write_pvtu(const DistributedLayout             &layout,
                const std::vector<Report::ModelRun> &runs,
-               const std::string                   &stem,
-               const MPI_Comm                       communicator);
+               const std::string                   &stem);
 
     /// Columns x,y,z,ux,uy,uz: one row per vertex, reference coordinates.
     void

@@ -1,0 +1,128 @@
+#!/usr/bin/python3
+"""Linear FEM ('cg amg') on the generated cube, serially and on two MPI ranks in groups of one and
+of two (issue 20: a group's member holds none of the scene's cells): peak memory of the largest
+and the smallest rank, the phases, the whole process. Serial once, then the two groupings
+interleaved REPEAT times (memory does not move from run to run; the times do: medians). Fails if
+an answer differs from the serial one by more than 1e-8 relative.
+
+usage: groups.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick]
+Writes RESULTS/scaling_groups.md, .csv, .png.
+"""
+import csv, os, re, statistics, sys
+
+import softface_run
+
+import numpy as np
+import matplotlib
+matplotlib.use("Agg")  # headless
+import matplotlib.pyplot as plt  # noqa: E402
+
+softface, mpiexec, work, results, command = sys.argv[1:6]
+quick = "--quick" in sys.argv[6:]
+N, REPEAT = (30000, 1) if quick else (2000000, 3)
+os.makedirs(work, exist_ok=True)
+os.makedirs(results, exist_ok=True)
+CASES = [("serial", 1, 1), ("2 ranks, groups of 1", 2, 1), ("2 ranks, groups of 2", 2, 2)]
+
+
+def run(label, ranks, group, k):
+    tag = f"{label.replace(' ', '_').replace(',', '')}_{k}"
+    out_dir = os.path.join(work, tag)
+    prm = os.path.join(work, tag + ".prm")
+    scene = softface_run.cube_scene(N, ["linear fem"], out_dir, nodal=True)
+    scene = scene.replace("  set Threads = 1\n", f"  set Threads = 1\n  set Mesh group size = {group}\n"
+                          "  subsection linear fem\n    set Solver = cg amg\n  end\n")
+    with open(prm, "w") as f:
+        f.write(scene)
+    out, wall = softface_run.run(softface, mpiexec, prm, ranks, "group scaling")
+    row = {"command s": wall}
+    m = re.search(r"mesh generated cube: (\d+) tetrahedra, (\d+) vertices", out)
+    row["tets"], row["vertices"] = int(m.group(1)), int(m.group(2))
+    row.update(softface_run.phases(out, "linear fem"))
+    row["process s"], row["peak MB"] = softface_run.process_figures(out)
+    smallest = re.search(r"the smallest (\d+) MB", out)
+    row["smallest peak MB"] = float(smallest.group(1)) if smallest else row["peak MB"]
+    row["holds none"] = "members hold none of the scene's cells" in out
+    row["u"] = np.loadtxt(os.path.join(out_dir, "displacements_linear_fem.csv"),
+                          delimiter=",", skiprows=1)[:, 3:6]
+    return row
+
+
+rows = {label: [] for label, _, _ in CASES}
+rows["serial"].append(run("serial", 1, 1, 0))
+print(f"serial: peak {rows['serial'][0]['peak MB']:.0f} MB, {rows['serial'][0]['process s']:.1f} s",
+      flush=True)
+for k in range(REPEAT):
+    for label, ranks, group in CASES[1:]:
+        r = run(label, ranks, group, k)
+        rows[label].append(r)
+        print(f"{label} ({k + 1}/{REPEAT}): peak {r['peak MB']:.0f} / {r['smallest peak MB']:.0f} MB "
+              f"(largest / smallest rank), partition {r.get('partition', 0):.2f} s, "
+              f"{r['process s']:.1f} s", flush=True)
+u0 = rows["serial"][0]["u"]
+difference = {}
+for label, _, _ in CASES[1:]:
+    difference[label] = max(np.abs(r["u"] - u0).max() / np.abs(u0).max() for r in rows[label])
+    if difference[label] > 1e-8:
+        sys.exit(f"group scaling: {label} differs from the serial answer by {difference[label]:.2e}")
+if not all(r["holds none"] for r in rows["2 ranks, groups of 2"]):
+    sys.exit("group scaling: with groups of 2 the members held the scene's cells")
+
+FIGURES = [("peak memory, largest rank MB", "peak MB"),
+           ("peak memory, smallest rank MB", "smallest peak MB"),
+           ("partition s", "partition"), ("assemble s", "assemble"),
+           ("preconditioner s", "preconditioner"), ("solve s", "solve"),
+           ("whole process s", "process s")]
+
+
+def median(label, key):
+    return statistics.median(r.get(key, 0.0) for r in rows[label])
+
+
+def cell(label, key):
+    # The serial run has no partition: nothing to show.
+    return f"{median(label, key):.4g}" if any(key in r for r in rows[label]) else ""
+
+
+csv_rows = [[label] + [cell(c, key) for c, _, _ in CASES] for label, key in FIGURES]
+with open(os.path.join(results, "scaling_groups.csv"), "w", newline="") as f:
+    w = csv.writer(f)
+    w.writerow(["figure"] + [c for c, _, _ in CASES])
+    w.writerows(csv_rows)
+
+fig, ax = plt.subplots(figsize=(6, 4))
+x = np.arange(len(CASES))
+ax.bar(x - 0.2, [median(c, "peak MB") for c, _, _ in CASES], 0.4, label="largest rank")
+ax.bar(x + 0.2, [median(c, "smallest peak MB") for c, _, _ in CASES], 0.4, label="smallest rank")
+ax.set_xticks(x, [c for c, _, _ in CASES], fontsize=8)
+ax.set_ylabel("peak memory per rank, MB")
+ax.set_title(f"linear FEM (cg amg), {rows['serial'][0]['tets']} tetrahedra")
+ax.legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(os.path.join(results, "scaling_groups.png"), dpi=110)
+
+commit = softface_run.commit()
+s, g1, g2 = (rows[c][0] for c, _, _ in CASES)
+md = ["# Groups of MPI ranks whose members hold no scene cells", "",
+      f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
+      f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), "
+      f"{s['tets']} tetrahedra, {s['vertices']} vertices, linear FEM (`cg amg`) alone, one "
+      "thread per rank; serially once, then `mpiexec -n 2` with `Models/Mesh group size` 1 and 2 "
+      f"interleaved, {REPEAT} times (medians). With groups of 2 rank 0 reads or makes the mesh "
+      "and describes rank 1's part; rank 1 holds its part and the arrays per vertex and DoF rank 0 "
+      "sent it, no cell of the scene. Peak memory is each process's VmHWM as softface reports it. "
+      "CSV: [scaling_groups.csv](scaling_groups.csv).", "",
+      "| | " + " | ".join(c for c, _, _ in CASES) + " |", "|---|---|---|---|"]
+for row in csv_rows:
+    md.append("| " + " | ".join(row) + " |")
+md += ["",
+       f"- Largest difference to the serial answer (relative): groups of 1 "
+       f"{difference['2 ranks, groups of 1']:.1e}, groups of 2 {difference['2 ranks, groups of 2']:.1e}.",
+       f"- The member's peak is {median('2 ranks, groups of 2', 'smallest peak MB') / median('serial', 'peak MB'):.3f} "
+       f"of the serial run's and {median('2 ranks, groups of 2', 'smallest peak MB') / median('2 ranks, groups of 1', 'smallest peak MB'):.3f} "
+       "of a rank's without groups; the root's stays near a rank's without groups, since it holds the "
+       "scene and its own part.", "",
+       "![memory](scaling_groups.png)", ""]
+with open(os.path.join(results, "scaling_groups.md"), "w") as f:
+    f.write("\n".join(md) + "\n")
+print(f"group scaling: wrote {os.path.join(results, 'scaling_groups.md')}")

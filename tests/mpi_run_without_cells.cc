@@ -1,0 +1,194 @@
+// A scene run by the simulator on several MPI ranks in groups of two whose
+// members hold none of the scene's cells (issue 20), by ctest on 2 and 3
+// ranks (mpi_run_without_cells.mpirun=N.output): only each group's root
+// reads the mesh (the gmsh cube); a member's scene has no cells but the
+// same counts, vertices, DoFs, segments, join points, effects and body
+// force as rank 0's; linear FEM's answer to each plan (by the response
+// basis) equals the serial model's on rank 0's scene to 1e-8 relative and
+// is the same on every rank; the fields written from the ranks' parts read
+// back as the serial solution.vtu; rank 0 evaluates the points.
+
+#include <deal.II/base/mpi.h>
+
+#include <softface/core/planning_list.h>
+#include <softface/simulator/simulator.h>
+
+#include "mpi_runs.h"
+#include "scenes.h"
+#include "tests.h"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+using namespace softface_tests;
+
+namespace
+{
+  // On how many ranks @p values differ from rank 0's (exactly).
+  template <typename T>
+  int
+  ranks_unlike_rank_0(const std::vector<T> &values, const MPI_Comm comm)
+  {
+    return Utilities::MPI::sum(int(values !=
+                                   Utilities::MPI::broadcast(comm, values, 0)),
+                               comm);
+  }
+} // namespace
+
+SOFTFACE_TEST(mpi_run_without_cells)
+{
+  const MPI_Comm     comm    = MPI_COMM_WORLD;
+  const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+  const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+  const bool         rank_0  = rank == 0;
+  deallog << "ranks: " << n_ranks << std::endl;
+
+  // Each rank names its own output folder (only rank 0's is made); the
+  // number of ranks is in the names, since ctest may run both at once.
+  const std::string stem =
+    "mpi_run_without_cells_" + std::to_string(n_ranks) + "_";
+  const std::string name   = stem + std::to_string(rank);
+  const std::string folder = name + "_output";
+  std::filesystem::remove_all(folder);
+  {
+    std::ifstream in(source_file("mpi_run_without_cells.prm"));
+    std::ofstream out(name + ".prm");
+    out << in.rdbuf() << "subsection Scene\n  set Mesh file = "
+        << source_file("data/cube30k/mesh.msh")
+        << "\nend\nsubsection Output\n  set Output directory = " << folder
+        << "\n  set Evaluation points = "
+        << source_file("data/points/run_evaluation_points.csv") << "\nend\n";
+  }
+  MPI_Barrier(comm);
+
+  std::ostringstream log, errors;
+  Simulator          simulator;
+  const int          rc = simulator.run(name + ".prm", log, errors);
+  check_equal("largest exit code over the ranks",
+              Utilities::MPI::max(rc, comm),
+              0);
+
+  // Only the groups' roots hold the cells.
+  const Scene &scene = simulator.scene();
+  check_equal("ranks that hold the scene's cells",
+              Utilities::MPI::sum(int(scene.has_cells()), comm),
+              (n_ranks + 1) / 2);
+  check_equal("ranks whose cells are not as their place in the group says",
+              Utilities::MPI::sum(int(scene.has_cells() != (rank % 2 == 0)),
+                                  comm),
+              0);
+  check_equal("ranks with triangulation cells but no cells said",
+              Utilities::MPI::sum(int(!scene.has_cells() &&
+                                      scene.triangulation.n_cells() > 0),
+                                  comm),
+              0);
+
+  // Every rank's scene tells what rank 0's does.
+  check_equal("cells (rank 0)", scene.n_cells(), 30639);
+  check_equal(
+    "ranks unlike rank 0: counts",
+    ranks_unlike_rank_0(std::vector<double>{double(scene.n_cells()),
+                                            double(scene.n_dofs()),
+                                            double(scene.n_vertices()),
+                                            double(scene.n_free_dofs()),
+                                            double(scene.n_join_vertices(0)),
+                                            double(scene.n_join_vertices(1))},
+                        comm),
+    0);
+  std::vector<double> vertices;
+  for (const auto &x : scene.vertices())
+    vertices.insert(vertices.end(), {x[0], x[1], x[2]});
+  check_equal("ranks unlike rank 0: vertices",
+              ranks_unlike_rank_0(vertices, comm),
+              0);
+  std::vector<types::global_dof_index> vertex_dofs;
+  for (const auto &dofs : scene.vertex_dofs())
+    vertex_dofs.insert(vertex_dofs.end(), dofs.begin(), dofs.end());
+  check_equal("ranks unlike rank 0: vertex DoFs",
+              ranks_unlike_rank_0(vertex_dofs, comm),
+              0);
+  check_equal("ranks unlike rank 0: vertex segments",
+              ranks_unlike_rank_0(scene.vertex_segment(), comm),
+              0);
+  check_equal("ranks unlike rank 0: join DoFs",
+              ranks_unlike_rank_0(std::vector<int>(scene.join_dofs().begin(),
+                                                   scene.join_dofs().end()),
+                                  comm),
+              0);
+  std::vector<double> centroids;
+  for (const auto &segment : scene.segments)
+    centroids.insert(centroids.end(),
+                     segment.join_centroid.begin(),
+                     segment.join_centroid.end());
+  check_equal("ranks unlike rank 0: segments' join centroids",
+              ranks_unlike_rank_0(centroids, comm),
+              0);
+  check_equal("ranks unlike rank 0: effects",
+              ranks_unlike_rank_0(scene.effects.names, comm),
+              0);
+  check_equal("effects (rank 0)", scene.effects.names.size(), 2);
+  check_equal(
+    "ranks unlike rank 0: body force",
+    ranks_unlike_rank_0(std::vector<double>(scene.effects.body_force.begin(),
+                                            scene.effects.body_force.end()),
+                        comm),
+    0);
+  check_above("body force (rank 0, N)", scene.effects.body_force.l1_norm(), 1.);
+
+  // Linear FEM on the ranks, each plan combined from its response basis:
+  // the serial model's answer, on every rank alike.
+  const auto &runs = simulator.runs();
+  check_equal("model runs (one model, two plans)", runs.size(), 2);
+  for (unsigned int p = 0; p < runs.size() && p < 2; ++p)
+    {
+      const std::string plan = "plan " + std::to_string(p + 1) + ": ";
+      check_equal(plan + "linear fem says it ran on the ranks",
+                  ran_on_the_ranks(runs[p], n_ranks),
+                  true);
+      check_equal(plan + "combined from the response basis",
+                  runs[p].basis_time > 0.,
+                  true);
+      const Vector<double> prescribed =
+        simulator.plannings().plans[p].planning.prescribed_displacement(scene);
+      check_equal(plan + "ranks unlike rank 0: prescribed displacement",
+                  ranks_unlike_rank_0(std::vector<double>(prescribed.begin(),
+                                                          prescribed.end()),
+                                      comm),
+                  0);
+      check_equal(
+        plan + "ranks unlike rank 0: answer",
+        ranks_unlike_rank_0(std::vector<double>(runs[p].displacement.begin(),
+                                                runs[p].displacement.end()),
+                            comm),
+        0);
+      if (rank_0)
+        {
+          check_below(plan + "relative difference to the serial model",
+                      relative_difference(runs[p].displacement,
+                                          serial_linear_fem(scene, prescribed)),
+                      1e-8);
+          check_above(plan + "largest |u_i| (mm)",
+                      runs[p].displacement.linfty_norm(),
+                      2.9);
+        }
+    }
+
+  MPI_Barrier(comm);
+  if (rank_0)
+    {
+      check_equal("evaluation_linear_fem_back.csv written",
+                  std::filesystem::exists(folder +
+                                          "/evaluation_linear_fem_back.csv"),
+                  true);
+      check_fields_against_serial(folder,
+                                  scene,
+                                  runs,
+                                  n_ranks,
+                                  {"displacement_linear_fem_planning",
+                                   "displacement_linear_fem_back",
+                                   "join_point",
+                                   "segment_id"});
+    }
+}
