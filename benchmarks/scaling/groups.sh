@@ -28,4 +28,4 @@ for option in "$@"; do
 done
 mkdir -p "$work" "$results"
 /usr/bin/python3 "$here/groups.py" "$(realpath "$softface")" "$mpiexec" "$work" "$results" \
-  "benchmarks/scaling/groups.sh $*" "${options[@]}"
+  "benchmarks/scaling/groups.sh${*:+ $*}" "${options[@]}"
