@@ -1,12 +1,13 @@
 // A scene run by the simulator on several MPI ranks in groups of two whose
-// members hold none of the scene's cells (issue 20), by ctest on 2 and 3
-// ranks (mpi_run_without_cells.mpirun=N.output): only each group's root
-// reads the mesh (the gmsh cube); a member's scene has no cells but the
-// same counts, vertices, DoFs, segments, join points, effects and body
-// force as rank 0's; linear FEM's answer to each plan (by the response
-// basis) equals the serial model's on rank 0's scene to 1e-8 relative and
-// is the same on every rank; the fields written from the ranks' parts read
-// back as the serial solution.vtu; rank 0 evaluates the points.
+// members hold none of the scene's cells (issue 20), by ctest on 2, 3 and 4
+// ranks (mpi_run_without_cells.mpirun=N.output; on 4 a root other than rank
+// 0 has a member): only each group's root reads the mesh (the gmsh cube);
+// a member's scene has no cells but the same counts, vertices, DoFs,
+// segments, join points, effects' rules and body force as rank 0's; linear
+// FEM's answer to each plan (by the response basis) and nonlinear FEM's
+// (by Newton) equal the serial models' on rank 0's scene to 1e-8 relative
+// and are the same on every rank; the fields written from the ranks' parts
+// read back as the serial solution.vtu; rank 0 evaluates the points.
 
 #include <deal.II/base/mpi.h>
 
@@ -85,6 +86,13 @@ SOFTFACE_TEST(mpi_run_without_cells)
                                   comm),
               0);
 
+  check_equal("rank 0 says the members hold no cells",
+              !rank_0 || log.str().find(
+                           "MPI ranks: " + std::to_string(n_ranks) +
+                           " in groups of 2; the groups' members hold "
+                           "none of the scene's cells") != std::string::npos,
+              true);
+
   // Every rank's scene tells what rank 0's does.
   check_equal("cells (rank 0)", scene.n_cells(), 30639);
   check_equal(
@@ -128,6 +136,38 @@ SOFTFACE_TEST(mpi_run_without_cells)
   check_equal("ranks unlike rank 0: effects",
               ranks_unlike_rank_0(scene.effects.names, comm),
               0);
+  check_equal(
+    "ranks unlike rank 0: mesh description",
+    ranks_unlike_rank_0(std::vector<std::string>{scene.mesh_description}, comm),
+    0);
+  check_equal("ranks unlike rank 0: shared join points, active-set limit",
+              ranks_unlike_rank_0(
+                std::vector<unsigned int>{
+                  scene.n_shared_join_points,
+                  (unsigned int)scene.resolve_shared_join_points,
+                  scene.effects.active_set_limit(),
+                  (unsigned int)scene.effects.vertex_constraints.size(),
+                  (unsigned int)scene.dofs_are_point_blocks()},
+                comm),
+              0);
+  std::vector<double> rules;
+  for (unsigned int t = 0; t < scene.n_tissues(); ++t)
+    rules.insert(rules.end(),
+                 {scene.tissue(t).youngs_modulus_pa,
+                  scene.tissue(t).poissons_ratio});
+  for (const auto &[id, tissue] : scene.effects.tissue_of_material_id)
+    rules.insert(rules.end(), {double(id), double(tissue)});
+  for (const auto &[id, density] : scene.effects.mass_density_of_material_id)
+    rules.insert(rules.end(), {double(id), density});
+  rules.push_back(scene.effects.mass_density_otherwise);
+  for (unsigned int d = 0; d < 3; ++d)
+    rules.push_back(scene.effects.acceleration[d]);
+  check_equal("ranks unlike rank 0: tissues and the effects' rules",
+              ranks_unlike_rank_0(rules, comm),
+              0);
+  // Two tissues, an id of each rule, a density and the acceleration: the
+  // comparison compared something.
+  check_above("tissues and rules compared (rank 0)", rules.size(), 12);
   check_equal("effects (rank 0)", scene.effects.names.size(), 2);
   check_equal(
     "ranks unlike rank 0: body force",
@@ -137,40 +177,50 @@ SOFTFACE_TEST(mpi_run_without_cells)
     0);
   check_above("body force (rank 0, N)", scene.effects.body_force.l1_norm(), 1.);
 
-  // Linear FEM on the ranks, each plan combined from its response basis:
-  // the serial model's answer, on every rank alike.
+  // Linear FEM on the ranks, each plan combined from its response basis,
+  // and nonlinear FEM by Newton: the serial models' answers (to CG's and
+  // Newton's tolerances), on every rank alike. Runs model by model, plan by
+  // plan.
   const auto &runs = simulator.runs();
-  check_equal("model runs (one model, two plans)", runs.size(), 2);
-  for (unsigned int p = 0; p < runs.size() && p < 2; ++p)
+  check_equal("model runs (two models, two plans)", runs.size(), 4);
+  for (unsigned int r = 0; r < runs.size() && r < 4; ++r)
     {
-      const std::string plan = "plan " + std::to_string(p + 1) + ": ";
-      check_equal(plan + "linear fem says it ran on the ranks",
-                  ran_on_the_ranks(runs[p], n_ranks),
+      const unsigned int p      = r % 2;
+      const bool         linear = r < 2;
+      const std::string  what   = std::string(linear ? "linear" : "nonlinear") +
+                               " fem, plan " + std::to_string(p + 1) + ": ";
+      check_equal(what + "ran on the ranks",
+                  ran_on_the_ranks(runs[r], n_ranks),
                   true);
-      check_equal(plan + "combined from the response basis",
-                  runs[p].basis_time > 0.,
-                  true);
+      check_equal(what + "combined from the response basis",
+                  runs[r].basis_time > 0.,
+                  linear);
       const Vector<double> prescribed =
         simulator.plannings().plans[p].planning.prescribed_displacement(scene);
-      check_equal(plan + "ranks unlike rank 0: prescribed displacement",
+      check_equal(what + "ranks unlike rank 0: prescribed displacement",
                   ranks_unlike_rank_0(std::vector<double>(prescribed.begin(),
                                                           prescribed.end()),
                                       comm),
                   0);
       check_equal(
-        plan + "ranks unlike rank 0: answer",
-        ranks_unlike_rank_0(std::vector<double>(runs[p].displacement.begin(),
-                                                runs[p].displacement.end()),
+        what + "ranks unlike rank 0: answer",
+        ranks_unlike_rank_0(std::vector<double>(runs[r].displacement.begin(),
+                                                runs[r].displacement.end()),
                             comm),
         0);
       if (rank_0)
         {
-          check_below(plan + "relative difference to the serial model",
-                      relative_difference(runs[p].displacement,
-                                          serial_linear_fem(scene, prescribed)),
-                      1e-8);
-          check_above(plan + "largest |u_i| (mm)",
-                      runs[p].displacement.linfty_norm(),
+          check_below(
+            what + "relative difference to the serial model",
+            relative_difference(runs[r].displacement,
+                                linear ? serial_linear_fem(scene, prescribed) :
+                                         serial_answer("nonlinear fem",
+                                                       simulator.parameters(),
+                                                       scene,
+                                                       prescribed)),
+            1e-8);
+          check_above(what + "largest |u_i| (mm)",
+                      runs[r].displacement.linfty_norm(),
                       2.9);
         }
     }
@@ -188,6 +238,8 @@ SOFTFACE_TEST(mpi_run_without_cells)
                                   n_ranks,
                                   {"displacement_linear_fem_planning",
                                    "displacement_linear_fem_back",
+                                   "displacement_nonlinear_fem_planning",
+                                   "displacement_nonlinear_fem_back",
                                    "join_point",
                                    "segment_id"});
     }

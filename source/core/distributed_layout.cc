@@ -134,12 +134,15 @@ namespace softface
                       "mesh (in one walk over it) and sends them (deal.II's "
                       "partitioning in groups). 1: every rank describes its "
                       "own part. Where every model of the run reads only its "
-                      "part on the ranks (linear FEM with 'cg amg'), a "
-                      "group's members then hold none of the scene's cells, "
-                      "only its arrays per vertex and DoF: one group per "
-                      "node (G = ranks per node) holds the serial mesh once "
-                      "per node. With any other model every rank holds the "
-                      "whole scene, and a group only costs its root time.");
+                      "part on the ranks (linear FEM with 'cg amg', "
+                      "nonlinear FEM where it runs on the ranks) and no "
+                      "effect adds vertex constraints, a group's members "
+                      "then hold none of the scene's cells, only its arrays "
+                      "per vertex and DoF: one group per node (G = ranks "
+                      "per node, ranks placed on nodes in blocks) holds the "
+                      "serial mesh once per node. Otherwise every rank holds "
+                      "the whole scene, and a group only costs its root "
+                      "time.");
   }
 
   SharedDistributedLayout::SharedDistributedLayout(

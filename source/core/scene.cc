@@ -11,7 +11,9 @@
 
 #include <softface/core/error.h>
 #include <softface/core/on_rank_0.h>
+#include <softface/core/release.h>
 #include <softface/core/scene.h>
+#include <softface/core/sub_communicator.h>
 #include <softface/io/mesh_reader.h>
 #include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
@@ -297,37 +299,51 @@ namespace softface
     const bool sends = Utilities::MPI::this_mpi_process(communicator) == 0;
     AssertThrow(!sends || holds_cells,
                 ExcMessage("Rank 0 shares a scene it holds."));
+    // A fingerprint of the mesh, which every rank with the cells compares
+    // with rank 0's: a root of another group that read another file (an
+    // older one of the same name on its node) would build its members'
+    // parts of another mesh.
+    const auto fingerprint = [this]() {
+      double sum = triangulation.n_active_cells() + dof_handler.n_dofs();
+      for (const auto &vertex : triangulation.get_vertices())
+        sum += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
+      return sum;
+    };
     // What is not an array per vertex or DoF goes as one archive, with the
-    // arrays' lengths; the arrays follow as they are. A rank that holds the
-    // cells takes part and keeps its own.
+    // arrays' lengths; the arrays follow as they are, to the ranks without
+    // cells only.
     std::uint64_t n_vertices_in_all = 0, n_dofs_in_all = 0,
-                  n_body_force_in_all = 0;
+                  n_body_force_in_all = 0, n_cells_in_all = 0, n_used = 0;
+    double      mesh_fingerprint = 0.;
     std::string small;
     if (sends)
       {
-        n_vertices_in_all            = triangulation.n_vertices();
-        n_dofs_in_all                = dof_handler.n_dofs();
-        n_body_force_in_all          = effects.body_force.size();
-        std::uint64_t n_cells_in_all = triangulation.n_active_cells(),
-                      n_used         = triangulation.n_used_vertices();
+        n_vertices_in_all   = triangulation.n_vertices();
+        n_dofs_in_all       = dof_handler.n_dofs();
+        n_body_force_in_all = effects.body_force.size();
+        n_cells_in_all      = triangulation.n_active_cells();
+        n_used              = triangulation.n_used_vertices();
+        mesh_fingerprint    = fingerprint();
         std::ostringstream              stream;
         boost::archive::binary_oarchive archive(stream);
         archive << n_vertices_in_all << n_dofs_in_all << n_body_force_in_all
-                << n_cells_in_all << n_used << segments
+                << n_cells_in_all << n_used << mesh_fingerprint << segments
                 << resolve_shared_join_points << n_shared_join_points
                 << mesh_description << n_joins_of_segment << point_blocks;
         effects.serialize_rules(archive);
         small = stream.str();
       }
-    small = Utilities::MPI::broadcast(communicator, small, 0);
+    small        = Utilities::MPI::broadcast(communicator, small, 0);
+    bool differs = false;
     if (!sends)
       {
         std::istringstream              stream(small);
         boost::archive::binary_iarchive archive(stream);
-        std::uint64_t                   n_cells_in_all = 0, n_used = 0;
         archive >> n_vertices_in_all >> n_dofs_in_all >> n_body_force_in_all >>
-          n_cells_in_all >> n_used;
-        if (!holds_cells)
+          n_cells_in_all >> n_used >> mesh_fingerprint;
+        if (holds_cells)
+          differs = fingerprint() != mesh_fingerprint;
+        else
           {
             archive >> segments >> resolve_shared_join_points >>
               n_shared_join_points >> mesh_description >> n_joins_of_segment >>
@@ -338,52 +354,57 @@ namespace softface
             n_dofs_without_cells          = n_dofs_in_all;
           }
       }
+    if (Utilities::MPI::max(int(differs), communicator) != 0)
+      throw Error("Scene: the roots of the groups of MPI ranks read "
+                  "different meshes from " +
+                  mesh_description +
+                  ": the mesh must be the same file on every node.");
 
-    // The arrays: to a rank with the cells into scratch space.
-    std::vector<Point<3>>                               vertices_in_all;
-    std::vector<std::array<types::global_dof_index, 3>> dofs_in_all;
-    std::vector<unsigned int>                           segment_in_all;
-    std::vector<unsigned char>                          join_in_all;
-    Vector<double>                                      body_force_in_all;
-    const bool keeps     = !sends && !holds_cells;
-    const bool own       = sends || keeps;
-    auto      &positions = keeps ? vertices_without_cells : vertices_in_all;
-    auto      &dofs      = own ? vertex_dof_indices : dofs_in_all;
-    auto      &segment   = own ? segment_of_vertex : segment_in_all;
-    auto      &force     = own ? effects.body_force : body_force_in_all;
+    const SubCommunicator receivers(communicator, sends || !holds_cells);
+    if (receivers.communicator == MPI_COMM_NULL)
+      return;
+    std::vector<unsigned char> join;
+    auto                      &positions = vertices_without_cells;
     if (sends)
       {
-        join_in_all.assign(is_join_dof.begin(), is_join_dof.end());
+        join.assign(is_join_dof.begin(), is_join_dof.end());
         positions = triangulation.get_vertices();
       }
     else
       {
         positions.resize(n_vertices_in_all);
-        dofs.resize(n_vertices_in_all);
-        segment.resize(n_vertices_in_all);
-        join_in_all.resize(n_dofs_in_all);
-        force.reinit(n_body_force_in_all);
+        vertex_dof_indices.resize(n_vertices_in_all);
+        segment_of_vertex.resize(n_vertices_in_all);
+        join.resize(n_dofs_in_all);
+        effects.body_force.reinit(n_body_force_in_all);
       }
     static_assert(sizeof(Point<3>) == 3 * sizeof(double) &&
-                    sizeof(dofs[0]) == 3 * sizeof(types::global_dof_index),
+                    sizeof(vertex_dof_indices[0]) ==
+                      3 * sizeof(types::global_dof_index),
                   "points and DoF triples are sent as plain arrays");
+    const MPI_Comm to = receivers.communicator;
     Utilities::MPI::broadcast(reinterpret_cast<double *>(positions.data()),
                               3 * positions.size(),
                               0,
-                              communicator);
+                              to);
     Utilities::MPI::broadcast(reinterpret_cast<types::global_dof_index *>(
-                                dofs.data()),
-                              3 * dofs.size(),
+                                vertex_dof_indices.data()),
+                              3 * vertex_dof_indices.size(),
                               0,
-                              communicator);
-    Utilities::MPI::broadcast(segment.data(), segment.size(), 0, communicator);
-    Utilities::MPI::broadcast(join_in_all.data(),
-                              join_in_all.size(),
+                              to);
+    Utilities::MPI::broadcast(segment_of_vertex.data(),
+                              segment_of_vertex.size(),
                               0,
-                              communicator);
-    Utilities::MPI::broadcast(force.begin(), force.size(), 0, communicator);
-    if (keeps)
-      is_join_dof.assign(join_in_all.begin(), join_in_all.end());
+                              to);
+    Utilities::MPI::broadcast(join.data(), join.size(), 0, to);
+    Utilities::MPI::broadcast(effects.body_force.begin(),
+                              effects.body_force.size(),
+                              0,
+                              to);
+    if (sends)
+      release(positions);
+    else
+      is_join_dof.assign(join.begin(), join.end());
   }
 
   void

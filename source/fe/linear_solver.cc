@@ -97,15 +97,14 @@ namespace softface
                                  std::vector<Point<3>>     &points,
                                  std::vector<unsigned int> &component)
   {
-    const unsigned int n = scene.dof_handler.n_dofs();
+    const unsigned int n = scene.n_dofs();
     points.assign(n, Point<3>());
     component.assign(n, numbers::invalid_unsigned_int);
     for (unsigned int v = 0; v < scene.vertex_dofs().size(); ++v)
       if (scene.vertex_dofs()[v][0] != numbers::invalid_dof_index)
         for (unsigned int c = 0; c < 3; ++c)
           {
-            points[scene.vertex_dofs()[v][c]] =
-              scene.triangulation.get_vertices()[v];
+            points[scene.vertex_dofs()[v][c]]    = scene.vertices()[v];
             component[scene.vertex_dofs()[v][c]] = c;
           }
   }

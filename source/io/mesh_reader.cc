@@ -115,11 +115,16 @@ namespace softface
             error = "Cannot read mesh file '" + filename + "'.";
         }
       const auto errors = Utilities::MPI::all_gather(communicator, error);
+      // Named by their rank in MPI_COMM_WORLD (@p communicator may be some
+      // of its ranks: the roots of groups).
+      const auto world_ranks = Utilities::MPI::all_gather(
+        communicator, Utilities::MPI::this_mpi_process(MPI_COMM_WORLD));
       for (unsigned int rank = 0; rank < errors.size(); ++rank)
         if (!errors[rank].empty())
-          throw Error(rank == 0 ? errors[0] :
-                                  "MPI rank " + std::to_string(rank) + ": " +
-                                    errors[rank]);
+          throw Error(world_ranks[rank] == 0 ?
+                        errors[rank] :
+                        "MPI rank " + std::to_string(world_ranks[rank]) + ": " +
+                          errors[rank]);
       return cell_name;
     }
   } // namespace Mesh

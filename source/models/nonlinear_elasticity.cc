@@ -276,6 +276,12 @@ namespace softface
     {
       if (scene->has_vertex_constraints())
         return "vertex constraints: whole on every rank";
+      return why_not_on_ranks_by_parameters();
+    }
+
+    std::string
+    NonlinearElasticity::why_not_on_ranks_by_parameters() const
+    {
       if (solver_parameters.method != "cg amg")
         return "Solver '" + solver_parameters.method +
                "': whole on every rank; 'cg amg' is distributed";
@@ -316,6 +322,9 @@ namespace softface
     std::string
     NonlinearElasticity::describe_cell(const unsigned int cell_index) const
     {
+      // A rank without the scene's cells (rank 0 has them, and speaks).
+      if (!scene->has_cells())
+        return " (cell " + std::to_string(cell_index) + ")";
       std::ostringstream where;
       const auto         cell =
         std::next(scene->triangulation.begin_active(), cell_index);

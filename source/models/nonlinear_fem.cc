@@ -34,6 +34,26 @@ namespace softface
              SceneEffects::free_vertex_constraints;
     }
 
+    bool
+    NonlinearFEM::runs_without_scene_cells() const
+    {
+      return why_not_on_ranks_by_parameters().empty();
+    }
+
+    void
+    NonlinearFEM::add_cell(const Tetrahedron::Geometry &geometry,
+                           const std::array<types::global_dof_index, 12> &dofs,
+                           const unsigned int tissue)
+    {
+      cell_geometry.push_back(geometry);
+      cell_dofs.push_back(dofs);
+      cell_tissue.push_back(tissue);
+      bool free = false;
+      for (const auto dof : dofs)
+        free |= !is_join[dof];
+      cell_has_free_vertex.push_back(free);
+    }
+
     void
     NonlinearFEM::setup_layout()
     {
@@ -46,45 +66,55 @@ namespace softface
       vertex_constraints.reset();
       if (scene->has_vertex_constraints())
         vertex_constraints = std::make_unique<VertexConstraintSet>(*scene);
-      {
-        const auto timed = phase("cell geometry");
-        cell_dofs.clear();
-        cell_geometry.clear();
-        cell_has_free_vertex.clear();
-        for (const auto &cell : scene->triangulation.active_cell_iterators())
-          {
-            cell_geometry.push_back(
-              Tetrahedron::geometry(Tetrahedron::vertices(cell)));
-            cell_dofs.push_back(ConstrainedSystem::cell_dofs(*scene, cell));
-            bool free = false;
-            for (const auto dof : cell_dofs.back())
-              free |= !is_join[dof];
-            cell_has_free_vertex.push_back(free);
-          }
-      }
+      cell_dofs.clear();
+      cell_geometry.clear();
+      cell_tissue.clear();
+      cell_has_free_vertex.clear();
+      rank_cells.clear();
 
       // On several MPI ranks each evaluates its own cells into a
-      // distributed tangent; the serial matrix's positions are not needed.
-      rank_cells.clear();
+      // distributed tangent, from its part of the mesh (the same vertices
+      // in the same order as the scene's cells: the same numbers); the
+      // serial matrix's positions are not needed.
       if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
           why_not_on_ranks().empty())
         {
-          const auto timed = phase("partition");
-          ranks_layout     = &distributed_layout(*scene);
-          release(cell_entry_positions);
-          ranks_dof_handler = &ranks_layout->dof_handler;
-          ranks_serial_dofs.clear();
-          for (const auto dof : ranks_layout->locally_relevant_dofs)
-            ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
-          // Its own cells and the ghost cells at its DoFs: each rank adds
-          // its own rows only (DistributedTangent::set_cells()).
-          ranks_dofs_per_cell = 12;
           std::vector<DoFHandler<3>::active_cell_iterator> cells;
-          ranks_layout->cells_at_owned_dofs(cells, ranks_cell_dofs);
-          for (const auto &cell : cells)
-            rank_cells.push_back(DistributedLayout::serial_cell_index(cell));
+          {
+            const auto timed = phase("partition");
+            ranks_layout     = &distributed_layout(*scene);
+            release(cell_entry_positions);
+            ranks_dof_handler = &ranks_layout->dof_handler;
+            ranks_serial_dofs.clear();
+            for (const auto dof : ranks_layout->locally_relevant_dofs)
+              ranks_serial_dofs.push_back(ranks_layout->serial_dof(dof));
+            // Its own cells and the ghost cells at its DoFs: each rank adds
+            // its own rows only (DistributedTangent::set_cells()).
+            ranks_dofs_per_cell = 12;
+            ranks_layout->cells_at_owned_dofs(cells, ranks_cell_dofs);
+          }
+          const auto timed = phase("cell geometry");
+          for (unsigned int k = 0; k < cells.size(); ++k)
+            {
+              std::array<types::global_dof_index, 12> dofs;
+              for (unsigned int i = 0; i < 12; ++i)
+                dofs[i] = ranks_layout->serial_dof(ranks_cell_dofs[12 * k + i]);
+              add_cell(Tetrahedron::geometry(Tetrahedron::vertices(cells[k])),
+                       dofs,
+                       ranks_layout->tissue_of_cell(cells[k]));
+              rank_cells.push_back(
+                DistributedLayout::serial_cell_index(cells[k]));
+            }
           return;
         }
+
+      {
+        const auto timed = phase("cell geometry");
+        for (const auto &cell : scene->triangulation.active_cell_iterators())
+          add_cell(Tetrahedron::geometry(Tetrahedron::vertices(cell)),
+                   ConstrainedSystem::cell_dofs(*scene, cell),
+                   scene->tissue_of_cell(cell->active_cell_index()));
+      }
 
       const auto timed = phase("matrix positions");
       partition.reinit(cell_dofs, is_join.size(), Threads::n_threads());
@@ -170,7 +200,7 @@ namespace softface
               for (unsigned int i = 0; i < 3; ++i)
                 u_cell[a][i] = u[dofs[3 * a + i]];
             if (!Elasticity::p1_response(law,
-                                         tissue_lame[scene->tissue_of_cell(c)],
+                                         tissue_lame[cell_tissue[c]],
                                          cell_geometry[c],
                                          u_cell,
                                          values != nullptr,
@@ -222,20 +252,19 @@ namespace softface
       unsigned int refused = numbers::invalid_unsigned_int;
       for (unsigned int k = 0; k < rank_cells.size(); ++k)
         {
-          const unsigned int c           = rank_cells[k];
-          const auto        &serial_dofs = cell_dofs[c];
+          const auto &serial_dofs = cell_dofs[k];
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               u_cell[a][i] = u[serial_dofs[3 * a + i]];
           if (Elasticity::p1_response(law,
-                                      tissue_lame[scene->tissue_of_cell(c)],
-                                      cell_geometry[c],
+                                      tissue_lame[cell_tissue[k]],
+                                      cell_geometry[k],
                                       u_cell,
                                       with_tangent,
                                       response))
             distributed_tangent->add_cell(k, response);
-          else if (cell_has_free_vertex[c])
-            refused = std::min(refused, c);
+          else if (cell_has_free_vertex[k])
+            refused = std::min(refused, rank_cells[k]);
         }
       return end_evaluation_on_ranks(forces, refused);
     }

@@ -3,7 +3,6 @@
 // and the scene's labels for ParaView, and per-vertex CSVs.
 
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/lac/la_parallel_vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -97,12 +96,15 @@ namespace softface
       }
 
       /**
-       * The fields of write_vtu() on the scene's cells, ready to write
-       * (DataOut refers to the vectors here).
+       * The fields of write_vtu() on the cells [first_cell, end_cell) of the
+       * scene's order, ready to write (DataOut refers to the vectors here).
        */
       struct Fields
       {
-        Fields(const Scene &scene, const std::vector<Report::ModelRun> &runs);
+        Fields(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const unsigned int                   first_cell,
+               const unsigned int                   end_cell);
 
         // Per-vertex flags live on a scalar P1 layout beside the vector one.
         DoFHandler<3>  scalar_dofs;
@@ -112,7 +114,9 @@ namespace softface
       };
 
       Fields::Fields(const Scene                         &scene,
-                     const std::vector<Report::ModelRun> &runs)
+                     const std::vector<Report::ModelRun> &runs,
+                     const unsigned int                   first_cell,
+                     const unsigned int                   end_cell)
       {
         scalar_dofs.reinit(scene.triangulation);
         scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
@@ -134,6 +138,24 @@ namespace softface
         for (const Report::ModelRun &run : runs)
           if (!run.failed)
             displacements.push_back(&run.displacement);
+        using Cell          = typename Triangulation<3>::cell_iterator;
+        const auto in_range = [first_cell, end_cell](const Cell &cell) {
+          return cell->is_active() && cell->active_cell_index() >= first_cell &&
+                 cell->active_cell_index() < end_cell;
+        };
+        const auto next_in_range = [in_range](const Triangulation<3> &tria,
+                                              const Cell             &cell) {
+          Cell next = cell;
+          for (++next; next != tria.end() && !in_range(next); ++next)
+            ;
+          return next;
+        };
+        data_out.set_cell_selection(
+          [in_range, next_in_range](const Triangulation<3> &tria) {
+            const Cell first = tria.begin();
+            return in_range(first) ? first : next_in_range(tria, first);
+          },
+          next_in_range);
         data_out.attach_triangulation(scene.triangulation);
         add_fields(data_out,
                    scene.dof_handler,
@@ -164,6 +186,38 @@ namespace softface
       }
     } // namespace
 
+    namespace
+    {
+      /// This rank's piece <stem>.<rank>.vtu of @p data_out and, on rank 0,
+      /// the record <stem>.pvtu of every rank's (stale fields removed).
+      void
+      write_piece_and_record(const DataOut<3>  &data_out,
+                             const std::string &stem,
+                             const MPI_Comm     communicator)
+      {
+        const unsigned int n_ranks =
+          Utilities::MPI::n_mpi_processes(communicator);
+        const unsigned int rank =
+          Utilities::MPI::this_mpi_process(communicator);
+        const std::string name =
+          std::filesystem::path(stem).filename().string();
+        {
+          std::ofstream out =
+            open_output_file(stem + "." + std::to_string(rank) + ".vtu");
+          data_out.write_vtu(out);
+        }
+        if (rank == 0)
+          {
+            remove_stale_fields(stem, n_ranks);
+            std::vector<std::string> pieces;
+            for (unsigned int r = 0; r < n_ranks; ++r)
+              pieces.push_back(name + "." + std::to_string(r) + ".vtu");
+            std::ofstream out = open_output_file(stem + ".pvtu");
+            data_out.write_pvtu_record(out, pieces);
+          }
+      }
+    } // namespace
+
     void
     write_vtu(const Scene                         &scene,
               const std::vector<Report::ModelRun> &runs,
@@ -172,7 +226,7 @@ namespace softface
       if (filename.size() > 4 &&
           filename.compare(filename.size() - 4, 4, ".vtu") == 0)
         remove_stale_fields(filename.substr(0, filename.size() - 4), 1);
-      const Fields  fields(scene, runs);
+      const Fields fields(scene, runs, 0, scene.triangulation.n_active_cells());
       std::ofstream out = open_output_file(filename);
       fields.data_out.write_vtu(out);
     }
@@ -182,11 +236,8 @@ namespace softface
                const std::vector<Report::ModelRun> &runs,
                const std::string                   &stem)
     {
-      const MPI_Comm     communicator = layout.communicator;
-      const unsigned int n_ranks =
-        Utilities::MPI::n_mpi_processes(communicator);
-      const unsigned int rank = Utilities::MPI::this_mpi_process(communicator);
-      const auto         vertex_cell =
+      const MPI_Comm communicator = layout.communicator;
+      const auto     vertex_cell =
         [&layout](const DoFHandler<3>::active_cell_iterator &cell) {
           return DoFHandler<3>::active_cell_iterator(&layout.triangulation,
                                                      cell->level(),
@@ -194,53 +245,39 @@ namespace softface
                                                      &layout.dof_handler);
         };
 
-      // The values at the vertices of the rank's own cells (the cells
-      // DataOut writes), from the whole answers every rank holds; ghost
-      // entries are set here, so no exchange is needed.
+      // The values at the DoFs this rank owns, from the whole answers every
+      // rank holds; DataOut fetches those at the ghost DoFs of its cells
+      // itself (it copies the owned entries into a ghosted vector).
       using Values = LinearAlgebra::distributed::Vector<double>;
       std::vector<Values> displacements;
       for (const Report::ModelRun &run : runs)
         if (!run.failed)
           {
-            Values u(layout.locally_owned_dofs,
-                     layout.locally_relevant_dofs,
-                     communicator);
-            for (const auto &cell : layout.dof_handler.active_cell_iterators())
-              if (cell->is_locally_owned())
-                for (const unsigned int v : cell->vertex_indices())
-                  for (unsigned int c = 0; c < 3; ++c)
-                    {
-                      const auto dof = cell->vertex_dof_index(v, c);
-                      u(dof)         = run.displacement[layout.serial_dof(dof)];
-                    }
-            u.set_ghost_state(true);
+            Values u(layout.locally_owned_dofs, communicator);
+            for (const auto dof : layout.locally_owned_dofs)
+              u(dof) = run.displacement[layout.serial_dof(dof)];
             displacements.push_back(std::move(u));
           }
+      // Every owned vertex is a vertex of an owned cell.
       DoFHandler<3> scalar_dofs(layout.triangulation);
       scalar_dofs.distribute_dofs(FE_SimplexP<3>(1));
-      IndexSet scalar_relevant;
-      DoFTools::extract_locally_relevant_dofs(scalar_dofs, scalar_relevant);
-      Values        join_flag(scalar_dofs.locally_owned_dofs(),
-                       scalar_relevant,
-                       communicator);
-      Values        segment_id(join_flag);
-      Vector<float> material(layout.triangulation.n_active_cells());
+      const IndexSet &scalar_owned = scalar_dofs.locally_owned_dofs();
+      Values          join_flag(scalar_owned, communicator);
+      Values          segment_id(join_flag);
+      Vector<float>   material(layout.triangulation.n_active_cells());
       for (const auto &cell : scalar_dofs.active_cell_iterators())
         if (cell->is_locally_owned())
           {
             material[cell->active_cell_index()] = cell->material_id();
             const auto with_vector_dofs         = vertex_cell(cell);
             for (const unsigned int v : cell->vertex_indices())
-              {
-                const auto dof = cell->vertex_dof_index(v, 0);
+              if (const auto dof = cell->vertex_dof_index(v, 0);
+                  scalar_owned.is_element(dof))
                 set_vertex_flags(layout.join_segment_of_dof(
                                    with_vector_dofs->vertex_dof_index(v, 0)),
                                  join_flag(dof),
                                  segment_id(dof));
-              }
           }
-      join_flag.set_ghost_state(true);
-      segment_id.set_ghost_state(true);
 
       std::vector<const Values *> pointers;
       for (const Values &u : displacements)
@@ -257,21 +294,27 @@ namespace softface
                  material,
                  layout.scene.mapping);
 
-      const std::string name = std::filesystem::path(stem).filename().string();
-      {
-        std::ofstream out =
-          open_output_file(stem + "." + std::to_string(rank) + ".vtu");
-        data_out.write_vtu(out);
-      }
-      if (rank == 0)
-        {
-          remove_stale_fields(stem, n_ranks);
-          std::vector<std::string> pieces;
-          for (unsigned int r = 0; r < n_ranks; ++r)
-            pieces.push_back(name + "." + std::to_string(r) + ".vtu");
-          std::ofstream out = open_output_file(stem + ".pvtu");
-          data_out.write_pvtu_record(out, pieces);
-        }
+      write_piece_and_record(data_out, stem, communicator);
+    }
+
+    void
+    write_pvtu(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const std::string                   &stem,
+               const MPI_Comm                       communicator)
+    {
+      const unsigned int n_ranks =
+        Utilities::MPI::n_mpi_processes(communicator);
+      const unsigned int  rank = Utilities::MPI::this_mpi_process(communicator);
+      const std::uint64_t n_cells = scene.triangulation.n_active_cells();
+      // The cells c with c * n_ranks / n_cells == rank, as the 'cell order'
+      // partition gives them.
+      const auto first_of = [&](const unsigned int r) {
+        return static_cast<unsigned int>(
+          (std::uint64_t(r) * n_cells + n_ranks - 1) / n_ranks);
+      };
+      const Fields fields(scene, runs, first_of(rank), first_of(rank + 1));
+      write_piece_and_record(fields.data_out, stem, communicator);
     }
 
     void

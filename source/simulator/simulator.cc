@@ -268,6 +268,8 @@ namespace softface
     // On several MPI ranks: the partition the distributed models share, and
     // on which the ranks write their pieces of the fields.
     std::shared_ptr<SharedDistributedLayout> layout;
+    // Do the members of the groups of ranks hold no cells of the scene?
+    bool members_without_cells = false;
   };
 
   Simulator::Simulator()  = default;
@@ -401,11 +403,19 @@ namespace softface
     // In groups of ranks (Models/Mesh group size) whose models all read
     // nothing of the scene's cells, the members hold none: each group's
     // root reads or makes the mesh, and rank 0 sends the members the rest.
-    const bool members_without_cells =
+    // Vertex constraints (sliding contact, separated lips) keep every model
+    // whole on every rank.
+    std::string needs_cells;
+    for (const auto &[name, model] : models)
+      if (needs_cells.empty() && !model->runs_without_scene_cells())
+        needs_cells = name;
+    for (const auto &[name, effect] : effects)
+      if (needs_cells.empty() &&
+          (effect->contributions() & SceneEffects::free_vertex_constraints))
+        needs_cells = name;
+    const bool members_without_cells = state->members_without_cells =
       state->layout != nullptr && state->layout->group_size > 1 &&
-      std::all_of(models.begin(), models.end(), [](const auto &model) {
-        return model.second->runs_without_scene_cells();
-      });
+      needs_cells.empty();
     const bool holds_cells = !members_without_cells ||
                              Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) %
                                  state->layout->group_size ==
@@ -468,17 +478,12 @@ namespace softface
     if (state->layout != nullptr && state->layout->group_size > 1)
       {
         out << "  MPI ranks: " << n_ranks << " in groups of "
-            << state->layout->group_size << "; ";
-        const auto needs_cells =
-          std::find_if(models.begin(), models.end(), [](const auto &model) {
-            return !model.second->runs_without_scene_cells();
-          });
-        if (members_without_cells)
-          out << "the groups' members hold none of the scene's cells";
-        else
-          out << "every rank holds the scene's cells ('" << needs_cells->first
-              << "' needs them)";
-        out << std::endl;
+            << state->layout->group_size << "; "
+            << (members_without_cells ?
+                  "the groups' members hold none of the scene's cells" :
+                  "every rank holds the scene's cells ('" + needs_cells +
+                    "' needs them)")
+            << std::endl;
       }
 
     auto &evaluation = state->evaluation;
@@ -893,12 +898,17 @@ namespace softface
     // On several ranks each writes its piece of the fields, in rank 0's
     // folder (the only one made).
     if (output.write_vtu && n_ranks > 1)
-      Output::write_pvtu(state->layout->get(scene),
-                         model_runs,
-                         Utilities::MPI::broadcast(MPI_COMM_WORLD,
-                                                   output.directory,
-                                                   0) +
-                           "/solution");
+      {
+        const std::string stem =
+          Utilities::MPI::broadcast(MPI_COMM_WORLD, output.directory, 0) +
+          "/solution";
+        // From the ranks' parts where a model made them (or a rank holds no
+        // cells); a partition for output alone would cost seconds.
+        if (state->layout->built() || state->members_without_cells)
+          Output::write_pvtu(state->layout->get(scene), model_runs, stem);
+        else
+          Output::write_pvtu(scene, model_runs, stem, MPI_COMM_WORLD);
+      }
 
     Utilities::System::MemoryStats memory;
     Utilities::System::get_memory_stats(memory);

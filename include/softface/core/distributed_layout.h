@@ -69,8 +69,9 @@ namespace softface
 
   /**
    * The scene's P1 layout on the ranks of an MPI communicator (issue 20).
-   * Every rank holds the scene's segments, join points and effects, and the
-   * root of each group of ranks its mesh; the cells are partitioned among
+   * Every rank holds the scene's segments, join points and effects, and its
+   * mesh too unless it is a member of a group whose run needs no serial
+   * mesh (Scene::has_cells()); the cells are partitioned among
    * the ranks (cell_owners()), and each rank builds a
    * parallel::fullydistributed::Triangulation of its cells and their ghosts
    * (simplex meshes need the fully distributed kind), described from the
@@ -322,6 +323,13 @@ namespace softface
     /// later calls must name the same scene.
     const DistributedLayout &
     get(const Scene &scene);
+
+    /// Has a model built it (the same answer on every rank)?
+    bool
+    built() const
+    {
+      return layout != nullptr;
+    }
 
     const MPI_Comm                       communicator;
     const DistributedLayout::Partitioner partitioner;

@@ -101,6 +101,10 @@ namespace softface
        */
       std::string
       why_not_on_ranks() const;
+      /// The part of why_not_on_ranks() its parameters decide, known before
+      /// any scene (all of it but the scene's vertex constraints).
+      std::string
+      why_not_on_ranks_by_parameters() const;
 
       /**
        * The forces (serial layout, every rank) and, if @p with_tangent, the

@@ -42,6 +42,10 @@ namespace softface
       evaluate_on_ranks(const Vector<double> &u,
                         Vector<double>       &forces,
                         const bool            with_tangent) const override;
+      /// Where it evaluates on the ranks (why_not_on_ranks_by_parameters()
+      /// empty): each rank reads its part of the mesh only.
+      bool
+      runs_without_scene_cells() const override;
 
     protected:
       void
@@ -54,8 +58,17 @@ namespace softface
                     Vector<double>       &displacement) override;
 
     private:
+      /// Add a cell's data (below) to its arrays.
+      void
+      add_cell(const Tetrahedron::Geometry                   &geometry,
+               const std::array<types::global_dof_index, 12> &dofs,
+               const unsigned int                             tissue);
+
+      /// Per cell: the scene's cells in serial, a rank's cells (rank_cells)
+      /// on several ranks, so that a rank holds its own cells' only.
       std::vector<std::array<types::global_dof_index, 12>> cell_dofs;
       std::vector<Tetrahedron::Geometry>                   cell_geometry;
+      std::vector<unsigned char>                           cell_tissue;
       std::vector<unsigned int>                            cell_entry_positions;
       /// False for cells whose every vertex is a join point: their forces
       /// act on prescribed DoFs only, so where a planning crushes them
@@ -66,7 +79,8 @@ namespace softface
       /// The Lame coefficients of every tissue of the scene.
       std::vector<Lame> tissue_lame;
       /// On several MPI ranks, the cells this rank evaluates (the scene's
-      /// cell numbers), its own and the ghost cells at its DoFs.
+      /// cell numbers), its own and the ghost cells at its DoFs: the cell
+      /// arrays above hold these, in this order.
       std::vector<unsigned int> rank_cells;
     };
   } // namespace Models

@@ -38,6 +38,20 @@ namespace softface
               const std::string                   &filename);
 
     /**
+     * The same fields on the ranks of @p communicator from the scene each
+     * holds, where no distributed layout was made (a partition for output
+     * alone costs seconds at millions of cells): each rank writes the
+     * piece <stem>.<rank>.vtu of a contiguous range of the scene's cells
+     * (the 'cell order' partition) and rank 0 the record <stem>.pvtu.
+     * Collective; every rank must hold the cells (Scene::has_cells()).
+     */
+    void
+    write_pvtu(const Scene                         &scene,
+               const std::vector<Report::ModelRun> &runs,
+               const std::string                   &stem,
+               const MPI_Comm                       communicator);
+
+    /**
      * The same fields on the ranks of @p layout (issue 20): each rank
      * writes the piece <stem>.<rank>.vtu of the cells it owns and rank 0 the
      * record <stem>.pvtu that ParaView opens as one mesh (and removes a
