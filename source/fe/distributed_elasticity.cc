@@ -126,6 +126,9 @@ namespace softface
       // The join rows' diagonal, for the serial model's right-hand side
       // norm (solve()).
       join_diagonal = stiffness->eliminate_join_dofs();
+      // Assembled once: the cells' places are not needed again, and ML's
+      // setup (the run's peak) comes next.
+      stiffness->release_cells();
       amg.reset();
     }
 

@@ -480,6 +480,15 @@ namespace softface
       }
   }
 
+  void
+  OwnedRowsMatrix::release_cells()
+  {
+    release(cell_row);
+    release(cell_column);
+    release(cell_order);
+    release(cell_entry);
+  }
+
   std::vector<double>
   OwnedRowsMatrix::eliminate_join_dofs()
   {

@@ -123,6 +123,13 @@ namespace softface
     std::vector<double>
     eliminate_join_dofs();
 
+    /// Forget the cells (set_cells()) once the matrix is assembled for good
+    /// (a linear model's): their rows and places take more memory than the
+    /// matrix at linear tetrahedra (336 bytes a cell), and ML's setup comes
+    /// after. add_row() and row() then need set_cells() again.
+    void
+    release_cells();
+
     const TrilinosWrappers::SparseMatrix &
     matrix() const
     {
