@@ -8,7 +8,9 @@
 // solution.N.vtu per rank and the record solution.pvtu, which softface's
 // mesh reader reads back as the mesh of a serial solution.vtu, with the same
 // point data at every point (each model's displacement, the join points and
-// segments). (A patient scene on the ranks: mpi_run_patient.)
+// segments); the same with the mass tensor model alone, which makes no
+// distributed layout (the pieces are then ranges of the scene's cells).
+// (A patient scene on the ranks: mpi_run_patient.)
 
 #include <deal.II/base/mpi.h>
 
@@ -135,4 +137,33 @@ SOFTFACE_TEST(mpi_run_scene)
                                    "join_point",
                                    "segment_id"});
     }
+
+  // The mass tensor model alone makes no distributed layout (its ranks
+  // share its own blocks): the pieces are then ranges of the scene's cells
+  // (Output::write_pvtu() from the scene), with the same fields.
+  const std::string alone = name + "_mass_tensor_alone";
+  std::filesystem::remove_all(alone);
+  {
+    std::ifstream in(source_file("mpi_run_scene.prm"));
+    std::ofstream out(alone + ".prm");
+    out << in.rdbuf() << "subsection Models\n  set Models = mass tensor\nend\n"
+        << "subsection Output\n  set Output directory = " << alone << "\nend\n";
+  }
+  MPI_Barrier(comm);
+  std::ostringstream alone_log, alone_errors;
+  Simulator          alone_simulator;
+  check_equal("mass tensor alone: largest exit code over the ranks",
+              Utilities::MPI::max(
+                alone_simulator.run(alone + ".prm", alone_log, alone_errors),
+                comm),
+              0);
+  MPI_Barrier(comm);
+  if (rank_0)
+    check_fields_against_serial(alone,
+                                alone_simulator.scene(),
+                                alone_simulator.runs(),
+                                n_ranks,
+                                {"displacement_mass_tensor",
+                                 "join_point",
+                                 "segment_id"});
 }

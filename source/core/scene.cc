@@ -27,6 +27,7 @@
 #include <boost/serialization/vector.hpp>
 
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <iterator>
 #include <map>
@@ -302,20 +303,38 @@ namespace softface
     // A fingerprint of the mesh, which every rank with the cells compares
     // with rank 0's: a root of another group that read another file (an
     // older one of the same name on its node) would build its members'
-    // parts of another mesh.
+    // parts of another mesh. A 64-bit FNV-1a hash of the vertices' bits in
+    // order and of each cell's vertices, material id and boundary faces.
     const auto fingerprint = [this]() {
-      double sum = triangulation.n_active_cells() + dof_handler.n_dofs();
+      std::uint64_t hash = 14695981039346656037ull;
+      const auto    add  = [&hash](const std::uint64_t value) {
+        for (unsigned int byte = 0; byte < 8; ++byte)
+          hash = (hash ^ ((value >> (8 * byte)) & 0xff)) * 1099511628211ull;
+      };
       for (const auto &vertex : triangulation.get_vertices())
-        sum += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
-      return sum;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            std::uint64_t bits;
+            std::memcpy(&bits, &vertex[d], sizeof(bits));
+            add(bits);
+          }
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          for (const unsigned int v : cell->vertex_indices())
+            add(cell->vertex_index(v));
+          add(cell->material_id());
+          for (const auto &face : cell->face_iterators())
+            add(face->at_boundary() ? face->boundary_id() : 0xffff);
+        }
+      return hash;
     };
     // What is not an array per vertex or DoF goes as one archive, with the
     // arrays' lengths; the arrays follow as they are, to the ranks without
     // cells only.
     std::uint64_t n_vertices_in_all = 0, n_dofs_in_all = 0,
                   n_body_force_in_all = 0, n_cells_in_all = 0, n_used = 0;
-    double      mesh_fingerprint = 0.;
-    std::string small;
+    std::uint64_t mesh_fingerprint = 0;
+    std::string   small;
     if (sends)
       {
         n_vertices_in_all   = triangulation.n_vertices();

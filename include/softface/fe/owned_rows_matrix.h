@@ -68,6 +68,7 @@ namespace softface
     int
     row(const unsigned int cell, const unsigned int i) const
     {
+      Assert(!cell_row.empty(), ExcMessage("No cells: set_cells() first."));
       return cell_row[std::size_t(dofs_per_cell) * cell + i];
     }
 
@@ -91,6 +92,7 @@ namespace softface
     void
     add_row(const unsigned int cell, const unsigned int i, const Entry &entry)
     {
+      Assert(!cell_row.empty(), ExcMessage("No cells: set_cells() first."));
       const std::size_t first = std::size_t(dofs_per_cell) * cell;
       const int         r     = cell_row[first + i];
       Assert(r >= 0, ExcMessage("A row of another rank's."));
@@ -170,6 +172,7 @@ namespace softface
     void
     walk_row(const unsigned int cell, const unsigned int i, const At &at) const
     {
+      Assert(!cell_row.empty(), ExcMessage("No cells: set_cells() first."));
       const std::size_t   first        = std::size_t(dofs_per_cell) * cell;
       const int           r            = cell_row[first + i];
       const int          *columns      = row_columns[r];
