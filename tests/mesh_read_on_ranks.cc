@@ -4,9 +4,12 @@
 // see the file would be), every rank throws the same error, that rank's
 // message with its number, rather than one rank throwing while the others go
 // on into a collective and wait. Also: every rank reading the file gets the
-// same mesh, and rank 0's own failure is reported as it is.
+// same mesh, and rank 0's own failure is reported as it is; and where only
+// some ranks read (the roots of groups), the failing one is named by its
+// rank in MPI_COMM_WORLD.
 
 #include <softface/core/error.h>
+#include <softface/core/sub_communicator.h>
 #include <softface/io/mesh_reader.h>
 
 #include "tests.h"
@@ -69,6 +72,48 @@ namespace
                   messages[0].find(".not-there") != std::string::npos,
                 1);
   }
+
+  // Only the roots of groups of two ranks read (the even ranks, as when the
+  // groups' members hold no cells), the last of them a file that is not
+  // there: every reader fails with its message, which names the rank by its
+  // number in MPI_COMM_WORLD, not among the readers.
+  void
+  check_readers_in_groups()
+  {
+    const MPI_Comm        world   = MPI_COMM_WORLD;
+    const unsigned int    rank    = Utilities::MPI::this_mpi_process(world);
+    const unsigned int    n_ranks = Utilities::MPI::n_mpi_processes(world);
+    const unsigned int    last    = (n_ranks - 1) / 2 * 2;
+    const std::string     mesh    = source_file("data/cube30k/mesh.msh");
+    const SubCommunicator readers(world, rank % 2 == 0);
+    std::string           message;
+    if (readers.communicator != MPI_COMM_NULL)
+      try
+        {
+          Triangulation<3> triangulation;
+          Mesh::read_file_on_every_rank(readers.communicator,
+                                        rank == last ? mesh + ".not-there" :
+                                                       mesh,
+                                        triangulation);
+        }
+      catch (const Error &e)
+        {
+          message = e.what();
+        }
+    deallog << "the roots of groups of two read, the last root cannot:"
+            << std::endl;
+    check_equal("  readers that failed",
+                Utilities::MPI::sum(int(!message.empty()), world),
+                (n_ranks + 1) / 2);
+    const std::string expected =
+      last == 0 ?
+        std::string("Cannot open mesh file") :
+        "MPI rank " + std::to_string(last) + ": Cannot open mesh file";
+    check_equal("  readers whose message names the world rank",
+                Utilities::MPI::sum(int(message.rfind(expected, 0) == 0),
+                                    world),
+                (n_ranks + 1) / 2);
+  }
 } // namespace
 
 SOFTFACE_TEST(mesh_read_on_ranks)
@@ -78,4 +123,5 @@ SOFTFACE_TEST(mesh_read_on_ranks)
   check("every rank reads the file", -1);
   check("the last rank cannot read it", n_ranks - 1);
   check("rank 0 cannot read it", 0);
+  check_readers_in_groups();
 }
