@@ -51,19 +51,11 @@ SOFTFACE_TEST(mpi_run_scene)
   const std::string  stem   = "mpi_run_scene_" + std::to_string(n_ranks) + "_";
   const std::string  name   = stem + std::to_string(rank);
   const std::string  folder = name + "_output";
-  std::filesystem::remove_all(folder);
-  {
-    std::ifstream in(source_file("mpi_run_scene.prm"));
-    std::ofstream out(name + ".prm");
-    out << in.rdbuf()
-        << "subsection Output\n  set Output directory = " << folder
-        << "\nend\n";
-  }
-  MPI_Barrier(comm);
+  const std::string  file = rank_scene(comm, "mpi_run_scene.prm", name, folder);
 
   std::ostringstream log, errors;
   Simulator          simulator;
-  const int          rc = simulator.run(name + ".prm", log, errors);
+  const int          rc = simulator.run(file, log, errors);
   check_equal("largest exit code over the ranks",
               Utilities::MPI::max(rc, comm),
               0);
@@ -142,20 +134,17 @@ SOFTFACE_TEST(mpi_run_scene)
   // share its own blocks): the pieces are then ranges of the scene's cells
   // (Output::write_pvtu() from the scene), with the same fields.
   const std::string alone = name + "_mass_tensor_alone";
-  std::filesystem::remove_all(alone);
-  {
-    std::ifstream in(source_file("mpi_run_scene.prm"));
-    std::ofstream out(alone + ".prm");
-    out << in.rdbuf() << "subsection Models\n  set Models = mass tensor\nend\n"
-        << "subsection Output\n  set Output directory = " << alone << "\nend\n";
-  }
-  MPI_Barrier(comm);
+  const std::string alone_file =
+    rank_scene(comm,
+               "mpi_run_scene.prm",
+               alone,
+               alone,
+               "subsection Models\n  set Models = mass tensor\nend\n");
   std::ostringstream alone_log, alone_errors;
   Simulator          alone_simulator;
   check_equal("mass tensor alone: largest exit code over the ranks",
               Utilities::MPI::max(
-                alone_simulator.run(alone + ".prm", alone_log, alone_errors),
-                comm),
+                alone_simulator.run(alone_file, alone_log, alone_errors), comm),
               0);
   MPI_Barrier(comm);
   if (rank_0)

@@ -52,21 +52,20 @@ SOFTFACE_TEST(mpi_run_without_cells)
     "mpi_run_without_cells_" + std::to_string(n_ranks) + "_";
   const std::string name   = stem + std::to_string(rank);
   const std::string folder = name + "_output";
-  std::filesystem::remove_all(folder);
-  {
-    std::ifstream in(source_file("mpi_run_without_cells.prm"));
-    std::ofstream out(name + ".prm");
-    out << in.rdbuf() << "subsection Scene\n  set Mesh file = "
-        << source_file("data/cube30k/mesh.msh")
-        << "\nend\nsubsection Output\n  set Output directory = " << folder
-        << "\n  set Evaluation points = "
-        << source_file("data/points/run_evaluation_points.csv") << "\nend\n";
-  }
-  MPI_Barrier(comm);
+  const std::string file =
+    rank_scene(comm,
+               "mpi_run_without_cells.prm",
+               name,
+               folder,
+               "subsection Scene\n  set Mesh file = " +
+                 source_file("data/cube30k/mesh.msh") +
+                 "\nend\nsubsection Output\n  set Evaluation points = " +
+                 source_file("data/points/run_evaluation_points.csv") +
+                 "\nend\n");
 
   std::ostringstream log, errors;
   Simulator          simulator;
-  const int          rc = simulator.run(name + ".prm", log, errors);
+  const int          rc = simulator.run(file, log, errors);
   check_equal("largest exit code over the ranks",
               Utilities::MPI::max(rc, comm),
               0);

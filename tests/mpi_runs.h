@@ -19,6 +19,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -26,6 +27,31 @@
 namespace softface_tests
 {
   using namespace softface;
+
+  /**
+   * This rank's copy <name>.prm of the tests' scene @p prm with @p settings
+   * appended and its own output folder @p folder (emptied first), so that
+   * what each rank writes can be told apart. Every rank's is written before
+   * any rank runs it. Collective; returns the file's name.
+   */
+  inline std::string
+  rank_scene(const MPI_Comm     comm,
+             const std::string &prm,
+             const std::string &name,
+             const std::string &folder,
+             const std::string &settings = "")
+  {
+    std::filesystem::remove_all(folder);
+    {
+      std::ifstream in(source_file(prm));
+      std::ofstream out(name + ".prm");
+      out << in.rdbuf() << settings
+          << "subsection Output\n  set Output directory = " << folder
+          << "\nend\n";
+    }
+    MPI_Barrier(comm);
+    return name + ".prm";
+  }
 
   /// Does @p run say (its "MPI ranks" figure) that it ran on @p n_ranks?
   inline bool

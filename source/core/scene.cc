@@ -11,7 +11,6 @@
 
 #include <softface/core/error.h>
 #include <softface/core/on_rank_0.h>
-#include <softface/core/release.h>
 #include <softface/core/scene.h>
 #include <softface/core/sub_communicator.h>
 #include <softface/io/mesh_reader.h>
@@ -383,15 +382,11 @@ namespace softface
     if (receivers.communicator == MPI_COMM_NULL)
       return;
     std::vector<unsigned char> join;
-    auto                      &positions = vertices_without_cells;
     if (sends)
-      {
-        join.assign(is_join_dof.begin(), is_join_dof.end());
-        positions = triangulation.get_vertices();
-      }
+      join.assign(is_join_dof.begin(), is_join_dof.end());
     else
       {
-        positions.resize(n_vertices_in_all);
+        vertices_without_cells.resize(n_vertices_in_all);
         vertex_dof_indices.resize(n_vertices_in_all);
         segment_of_vertex.resize(n_vertices_in_all);
         join.resize(n_dofs_in_all);
@@ -402,8 +397,12 @@ namespace softface
                       3 * sizeof(types::global_dof_index),
                   "points and DoF triples are sent as plain arrays");
     const MPI_Comm to = receivers.communicator;
-    Utilities::MPI::broadcast(reinterpret_cast<double *>(positions.data()),
-                              3 * positions.size(),
+    // The root only reads its buffer: rank 0 sends its mesh's own vertices.
+    Point<3> *positions =
+      sends ? const_cast<Point<3> *>(triangulation.get_vertices().data()) :
+              vertices_without_cells.data();
+    Utilities::MPI::broadcast(reinterpret_cast<double *>(positions),
+                              3 * n_vertices_in_all,
                               0,
                               to);
     Utilities::MPI::broadcast(reinterpret_cast<types::global_dof_index *>(
@@ -420,9 +419,7 @@ namespace softface
                               effects.body_force.size(),
                               0,
                               to);
-    if (sends)
-      release(positions);
-    else
+    if (!sends)
       is_join_dof.assign(join.begin(), join.end());
   }
 
