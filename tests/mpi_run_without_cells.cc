@@ -8,10 +8,16 @@
 // (by Newton) equal the serial models' on rank 0's scene to 1e-8 relative
 // and are the same on every rank; the fields written from the ranks' parts
 // read back as the serial solution.vtu; rank 0 evaluates the points.
+// Then the quadratic reference alone on a coarser gmsh mesh: its DoFs live on
+// the ranks' parts, so its members hold no cells either; its vertex values
+// and its field at the evaluation points (each point evaluated by the rank
+// that owns its cell) equal the serial reference's.
 
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/planning_list.h>
+#include <softface/fe/point_evaluation.h>
+#include <softface/io/points_csv.h>
 #include <softface/simulator/simulator.h>
 
 #include "mpi_runs.h"
@@ -35,6 +41,131 @@ namespace
     return Utilities::MPI::sum(int(values !=
                                    Utilities::MPI::broadcast(comm, values, 0)),
                                comm);
+  }
+  // The values x,y,z,ux,uy,uz of an evaluation_*.csv (rows of six).
+  std::vector<double>
+  read_evaluation_csv(const std::string &file)
+  {
+    std::ifstream       in(file);
+    std::string         line;
+    std::vector<double> values;
+    std::getline(in, line); // the header
+    while (std::getline(in, line))
+      {
+        std::istringstream row(line);
+        std::string        value;
+        while (std::getline(row, value, ','))
+          values.push_back(std::stod(value));
+      }
+    return values;
+  }
+
+  // The quadratic reference alone, in groups of two, on the off-centre
+  // case's coarse gmsh mesh (5092 cells).
+  void
+  check_reference_without_cells(const std::string &stem, const MPI_Comm comm)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+    const std::string  name    = stem + "reference_" + std::to_string(rank);
+    const std::string  folder  = name + "_output";
+    const std::string  points_file =
+      source_file("data/points/run_evaluation_points.csv");
+    const std::string file =
+      rank_scene(comm,
+                 "mpi_run_without_cells.prm",
+                 name,
+                 folder,
+                 "subsection Scene\n  set Mesh file = " +
+                   source_file("data/offcentre_coarse/mesh.msh") +
+                   "\nend\nsubsection Output\n  set Evaluation points = " +
+                   points_file +
+                   "\nend\nsubsection Models\n  set Models = reference "
+                   "fem\nend\n");
+    std::ostringstream log, errors;
+    Simulator          simulator;
+    const int          rc = simulator.run(file, log, errors);
+    deallog << "reference fem:" << std::endl;
+    check_equal("  largest exit code over the ranks",
+                Utilities::MPI::max(rc, comm),
+                0);
+    const Scene &scene = simulator.scene();
+    check_equal("  ranks that hold the scene's cells",
+                Utilities::MPI::sum(int(scene.has_cells()), comm),
+                (n_ranks + 1) / 2);
+    check_equal("  rank 0 says the members hold no cells",
+                rank != 0 ||
+                  log.str().find("the groups' members hold none of the "
+                                 "scene's cells") != std::string::npos,
+                true);
+    check_equal("  cells (rank 0)", scene.n_cells(), 5092);
+
+    const auto &runs = simulator.runs();
+    check_equal("  model runs (two plans)", runs.size(), 2);
+    for (unsigned int p = 0; p < runs.size() && p < 2; ++p)
+      {
+        const std::string what = "  plan " + std::to_string(p + 1) + ": ";
+        check_equal(what + "ran on the ranks",
+                    ran_on_the_ranks(runs[p], n_ranks),
+                    true);
+        check_equal(
+          what + "ranks unlike rank 0: answer",
+          ranks_unlike_rank_0(std::vector<double>(runs[p].displacement.begin(),
+                                                  runs[p].displacement.end()),
+                              comm),
+          0);
+        if (rank != 0)
+          continue;
+        // The serial reference on rank 0's scene, and its quadratic field
+        // at the points.
+        const Vector<double> prescribed =
+          simulator.plannings().plans[p].planning.prescribed_displacement(
+            scene);
+        auto model = Models::create("reference fem", simulator.parameters());
+        model->set_communicator(MPI_COMM_SELF);
+        model->setup(scene);
+        Vector<double> serial;
+        model->solve(prescribed, serial);
+        check_below(what + "relative difference to the serial model",
+                    relative_difference(runs[p].displacement, serial),
+                    1e-8);
+        check_above(what + "largest |u_i| (mm)",
+                    runs[p].displacement.linfty_norm(),
+                    2.9);
+        const PointEvaluation evaluation(scene.triangulation,
+                                         read_points_csv(points_file));
+        const auto [field_dofs, field] = model->displacement_field();
+        const auto quadratic = evaluation.evaluate(*field_dofs, *field);
+        const auto linear    = evaluation.evaluate(scene.dof_handler, serial);
+        const std::vector<double> written = read_evaluation_csv(
+          folder + "/evaluation_reference_fem_" +
+          std::string(p == 0 ? "planning" : "back") + ".csv");
+        check_equal(what + "evaluation points written",
+                    written.size(),
+                    6 * quadratic.size());
+        double largest = 0., to_quadratic = 0., quadratic_to_linear = 0.;
+        for (unsigned int q = 0; q < quadratic.size(); ++q)
+          for (unsigned int d = 0; d < 3 && 6 * q + 5 < written.size(); ++d)
+            {
+              largest = std::max(largest, std::abs(quadratic[q][d]));
+              to_quadratic =
+                std::max(to_quadratic,
+                         std::abs(written[6 * q + 3 + d] - quadratic[q][d]));
+              quadratic_to_linear =
+                std::max(quadratic_to_linear,
+                         std::abs(linear[q][d] - quadratic[q][d]));
+            }
+        check_below(what + "evaluation points, largest difference to the "
+                           "serial quadratic field / its largest value",
+                    to_quadratic / largest,
+                    1e-8);
+        // What the comparison tells apart: the vertex values interpolated
+        // linearly miss the quadratic field by far more.
+        check_above(what + "the same for the linear interpolation of the "
+                           "vertex values",
+                    quadratic_to_linear / largest,
+                    1e-4);
+      }
   }
 } // namespace
 
@@ -242,4 +373,5 @@ SOFTFACE_TEST(mpi_run_without_cells)
                                    "join_point",
                                    "segment_id"});
     }
+  check_reference_without_cells(stem, comm);
 }

@@ -1,17 +1,18 @@
 #!/usr/bin/env bash
-# The quadratic reference model on one MPI rank and on two (issue 20): peak memory per rank and
-# time on the generated cube of about 100k and 300k tetrahedra (the reference's quadratic layout
-# has about 8 times the DoFs of the shared one), one thread per rank, once each; checks that the
-# two answers agree and writes doc/results/scaling_reference.{md,csv,png}.
+# The quadratic reference model on one MPI rank and on two, the two also in a group of two whose
+# member holds none of the scene's cells (issue 20): peak memory per rank and time on the
+# generated cube of about 100k and 300k tetrahedra (the reference's quadratic layout has about 8
+# times the DoFs of the shared one), one thread per rank, once each; checks that the answers agree
+# and writes doc/results/scaling_reference.{md,csv,png}.
 #
 #   benchmarks/scaling/reference.sh [--quick] [--sizes N,N,...]
 #     --quick: 20k tetrahedra, results in the work dir
 #     --sizes: the cube's requested tetrahedra (default 100000,300000); 100000,300000,600000 adds
-#              about the largest one rank holds in 24 GB (its serial run peaks near 19 GB; about
-#              50 minutes in all, and the two ranks at 600k need about 21 GB together)
+#              about the largest one rank holds in 24 GB (its serial run peaks near 17 GB; over
+#              an hour in all, and the two ranks at 600k need about 17 GB together)
 #
 # Env: SOFTFACE (default build/softface), SCALING_WORK (default /tmp/softface-scaling). About
-# 11 minutes; needs mpiexec and Debian's /usr/bin/python3 with python3-numpy and
+# 16 minutes; needs mpiexec and Debian's /usr/bin/python3 with python3-numpy and
 # python3-matplotlib. Run it on an otherwise idle machine.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)

@@ -22,7 +22,8 @@ namespace softface
     const std::vector<bool>                    &serial_is_join,
     const std::vector<Point<3>>                &serial_points,
     const std::vector<unsigned int>            &serial_component,
-    const LinearSolver::Parameters             &parameters)
+    const LinearSolver::Parameters             &parameters,
+    const Point<3>                             *points_centroid)
       : communicator(dof_handler.get_communicator())
       , locally_owned_dofs(dof_handler.locally_owned_dofs())
       , n_serial_dofs(serial_is_join.size())
@@ -61,9 +62,14 @@ namespace softface
         owned_points[r]    = serial_points[serial];
         owned_component[r] = serial_component[serial];
       }
-    for (const auto &p : serial_points)
-      centroid += p;
-    centroid /= std::max<std::size_t>(serial_points.size(), 1);
+    if (points_centroid != nullptr)
+      centroid = *points_centroid;
+    else
+      {
+        for (const auto &p : serial_points)
+          centroid += p;
+        centroid /= std::max<std::size_t>(serial_points.size(), 1);
+      }
     forces.reinit(locally_owned_dofs, communicator);
   }
 

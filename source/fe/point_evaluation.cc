@@ -116,4 +116,20 @@ namespace softface
     return evaluation_points;
   }
 
+  std::vector<unsigned int>
+  PointEvaluation::cell_indices() const
+  {
+    std::vector<unsigned int> indices;
+    indices.reserve(cells.size());
+    for (const auto &cell : cells)
+      indices.push_back(cell->active_cell_index());
+    return indices;
+  }
+
+  const std::vector<Point<3>> &
+  PointEvaluation::reference_coordinates() const
+  {
+    return reference_points;
+  }
+
 } // namespace softface

@@ -176,6 +176,14 @@ namespace softface
       return {nullptr, nullptr};
     }
 
+    bool
+    Interface::displacement_field_at(const std::vector<unsigned int> &,
+                                     const std::vector<Point<3>> &,
+                                     std::vector<Tensor<1, 3>> &) const
+    {
+      return false;
+    }
+
     void
     Interface::set_progress_stream(std::ostream *stream)
     {

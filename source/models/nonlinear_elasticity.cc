@@ -109,6 +109,7 @@ namespace softface
       distributed_tangent.reset();
       dof_points.clear();
       dof_component.clear();
+      dof_points_centroid.reset();
       setup_layout();
       set_n_dofs(is_join.size());
       const unsigned int n_ranks =
@@ -134,7 +135,8 @@ namespace softface
               is_join,
               dof_points.empty() ? scene_points : dof_points,
               dof_points.empty() ? scene_component : dof_component,
-              solver_parameters);
+              solver_parameters,
+              dof_points_centroid ? &*dof_points_centroid : nullptr);
             distributed_tangent->set_cells(ranks_cell_dofs,
                                            ranks_dofs_per_cell);
             release(ranks_cell_dofs);
@@ -269,6 +271,12 @@ namespace softface
       add_detail("linear iterations", last_report.linear_iterations);
       if (solver_parameters.method != "direct")
         add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    bool
+    NonlinearElasticity::runs_without_scene_cells() const
+    {
+      return why_not_on_ranks_by_parameters().empty();
     }
 
     std::string

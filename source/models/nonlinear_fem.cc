@@ -34,12 +34,6 @@ namespace softface
              SceneEffects::free_vertex_constraints;
     }
 
-    bool
-    NonlinearFEM::runs_without_scene_cells() const
-    {
-      return why_not_on_ranks_by_parameters().empty();
-    }
-
     void
     NonlinearFEM::add_cell(const Tetrahedron::Geometry &geometry,
                            const std::array<types::global_dof_index, 12> &dofs,

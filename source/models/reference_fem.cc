@@ -10,10 +10,13 @@
 #include <deal.II/grid/tria_iterator.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
+#include <softface/core/release.h>
 #include <softface/fe/elasticity.h>
 #include <softface/models/reference_fem.h>
 
+#include <algorithm>
 #include <array>
+#include <map>
 #include <set>
 
 namespace softface
@@ -70,7 +73,31 @@ namespace softface
     ReferenceFEM::setup_layout()
     {
       const auto timed = phase("layout");
-      fe          = std::make_unique<FESystem<3>>(FE_SimplexP<3>(degree), 3);
+      fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(degree), 3);
+      dof_handler.reset();
+      at_vertex_dof.clear();
+      all_join_cell.clear();
+      solution.reinit(0);
+      rank_cells.clear();
+      rank_cell_dofs.clear();
+      rank_cell_all_join.clear();
+      rank_vertex_dofs.clear();
+      ranks_dofs.reset();
+      add_detail("degree", degree);
+      if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
+          why_not_on_ranks().empty())
+        setup_ranks();
+      else
+        setup_serial();
+
+      tissue_lame.clear();
+      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
+        tissue_lame.push_back(scene->tissue(t).lame());
+    }
+
+    void
+    ReferenceFEM::setup_serial()
+    {
       dof_handler = std::make_unique<DoFHandler<3>>(scene->triangulation);
       dof_handler->distribute_dofs(*fe);
       const unsigned int n = dof_handler->n_dofs();
@@ -162,25 +189,11 @@ namespace softface
           all_join_cell[cell->active_cell_index()] = all;
         }
 
-      add_detail("degree", degree);
-      rank_cells.clear();
-      rank_cell_serial_dofs.clear();
-      ranks_dofs.reset();
-      if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
-          why_not_on_ranks().empty())
-        setup_ranks();
-      else
-        {
-          DynamicSparsityPattern dsp(n, n);
-          DoFTools::make_sparsity_pattern(*dof_handler, dsp);
-          sparsity.copy_from(dsp);
-        }
+      DynamicSparsityPattern dsp(n, n);
+      DoFTools::make_sparsity_pattern(*dof_handler, dsp);
+      sparsity.copy_from(dsp);
 
-      // The effects: each tissue's Lame coefficients, and the body force
-      // integrated against this layout's shape functions.
-      tissue_lame.clear();
-      for (unsigned int t = 0; t < scene->n_tissues(); ++t)
-        tissue_lame.push_back(scene->tissue(t).lame());
+      // The body force integrated against this layout's shape functions.
       if (scene->has_body_force())
         {
           Elasticity::assemble_body_force(scene->mapping,
@@ -195,60 +208,181 @@ namespace softface
     void
     ReferenceFEM::setup_ranks()
     {
-      ranks_layout = &distributed_layout(*scene);
-      ranks_dofs = std::make_unique<DoFHandler<3>>(ranks_layout->triangulation);
+      // The model's DoFs are its element's on the layout's part of the mesh,
+      // numbered across the ranks by deal.II, and its whole vectors
+      // (Newton's) are in that numbering: no rank builds the element on the
+      // scene's whole mesh, which the members of a group of ranks may not
+      // hold (Scene::has_cells()).
+      ranks_layout                    = &distributed_layout(*scene);
+      const DistributedLayout &layout = *ranks_layout;
+      ranks_dofs = std::make_unique<DoFHandler<3>>(layout.triangulation);
       ranks_dofs->distribute_dofs(*fe);
-      ranks_dof_handler = ranks_dofs.get();
-      IndexSet relevant;
+      ranks_dof_handler                   = ranks_dofs.get();
+      const types::global_dof_index n     = ranks_dofs->n_dofs();
+      const IndexSet               &owned = ranks_dofs->locally_owned_dofs();
+      IndexSet                      relevant;
       DoFTools::extract_locally_relevant_dofs(*ranks_dofs, relevant);
-      const IndexSet &owned = ranks_dofs->locally_owned_dofs();
-      ranks_serial_dofs.assign(relevant.n_elements(),
-                               numbers::invalid_dof_index);
+      ranks_serial_dofs.assign(relevant.begin(), relevant.end());
       ranks_dofs_per_cell = fe->n_dofs_per_cell();
       ranks_cell_dofs.clear();
 
-      // A cell of the layout is the scene's cell with the same vertices in
-      // the same order (DistributedLayout::serial_cell()), and a quadratic
-      // element has one DoF per edge and component: the same local DoF is
-      // the same DoF. Checked by the DoFs' support points.
-      const auto        &unit_points = fe->get_unit_support_points();
-      const unsigned int n           = ranks_dofs_per_cell;
-      std::vector<types::global_dof_index> dofs(n), serial_dofs(n);
+      // The join DoFs by setup_serial()'s rules, decided for the DoFs this
+      // rank owns: every cell at one of them is its own or a ghost cell, and
+      // a ghost cell's face that bounds only this rank's part (boundary id
+      // 0 there) touches none of them. The vertices' join points and their
+      // segments are the layout's decisions, the serial ones. ML's points
+      // are needed at the owned DoFs only (DistributedTangent's rows).
+      const auto                &unit_points = fe->get_unit_support_points();
+      const unsigned int         n_cell      = fe->n_dofs_per_cell();
+      std::vector<unsigned char> join(n, 0);
+      dof_points.assign(n, Point<3>());
+      dof_component.assign(n, 0);
+      std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
       for (const auto &cell : ranks_dofs->active_cell_iterators())
         if (!cell->is_artificial())
           {
-            const auto serial = ranks_layout->serial_cell(cell);
-            const DoFHandler<3>::active_cell_iterator serial_cell(
-              &scene->triangulation,
-              serial->level(),
-              serial->index(),
-              dof_handler.get());
+            const DoFHandler<3>::active_cell_iterator p1_cell(
+              &layout.triangulation,
+              cell->level(),
+              cell->index(),
+              &layout.dof_handler);
             cell->get_dof_indices(dofs);
-            serial_cell->get_dof_indices(serial_dofs);
+            bool bone_cell = false;
+            for (const auto &segment : scene->segments)
+              bone_cell |= segment.material_ids.count(cell->material_id()) > 0;
             bool at_own_dof = false;
-            for (unsigned int i = 0; i < n; ++i)
+            for (unsigned int i = 0; i < n_cell; ++i)
               {
-                const Point<3> &xi = unit_points[i];
-                Point<3> x = (1. - xi[0] - xi[1] - xi[2]) * cell->vertex(0);
-                for (unsigned int a = 1; a < 4; ++a)
-                  x += xi[a - 1] * cell->vertex(a);
-                AssertThrow(x.distance(dof_points[serial_dofs[i]]) <=
-                              1e-9 * (1. + x.norm()),
-                            ExcInternalError());
-                ranks_serial_dofs[relevant.index_within_set(dofs[i])] =
-                  serial_dofs[i];
+                const unsigned int c = fe->system_to_component_index(i).first;
+                const std::array<double, 4> weight =
+                  vertex_weights(unit_points[i]);
+                Point<3> x;
+                for (unsigned int a = 0; a < 4; ++a)
+                  {
+                    x += weight[a] * cell->vertex(a);
+                    if (weight[a] == 1.)
+                      {
+                        const auto vertex_dof = p1_cell->vertex_dof_index(a, c);
+                        if (layout.is_join_dof(vertex_dof))
+                          join[dofs[i]] = 1;
+                        if (owned.is_element(dofs[i]))
+                          rank_vertex_dofs.emplace_back(
+                            layout.serial_dof(vertex_dof), dofs[i]);
+                      }
+                  }
+                dof_points[dofs[i]]    = x;
+                dof_component[dofs[i]] = c;
+                if (bone_cell)
+                  join[dofs[i]] = 1;
                 at_own_dof |= owned.is_element(dofs[i]);
               }
+            for (const unsigned int f : cell->face_indices())
+              if (cell->face(f)->at_boundary())
+                for (const auto &segment : scene->segments)
+                  if (segment.boundary_ids.count(cell->face(f)->boundary_id()))
+                    {
+                      face_dofs.resize(fe->n_dofs_per_face(f));
+                      cell->face(f)->get_dof_indices(face_dofs);
+                      for (const auto i : face_dofs)
+                        join[i] = 1;
+                    }
+            // Carried whole by two or more segments (setup_serial()).
+            std::set<unsigned int> segments_of_vertices;
+            bool                   vertices_join = true;
+            for (const unsigned int a : cell->vertex_indices())
+              {
+                const auto vertex_dof = p1_cell->vertex_dof_index(a, 0);
+                vertices_join &= layout.is_join_dof(vertex_dof);
+                segments_of_vertices.insert(
+                  layout.join_segment_of_dof(vertex_dof));
+              }
+            if (vertices_join && segments_of_vertices.size() >= 2)
+              for (const auto i : dofs)
+                join[i] = 1;
             if (!at_own_dof)
               continue;
             rank_cells.push_back(cell);
             ranks_cell_dofs.insert(ranks_cell_dofs.end(),
                                    dofs.begin(),
                                    dofs.end());
-            rank_cell_serial_dofs.insert(rank_cell_serial_dofs.end(),
-                                         serial_dofs.begin(),
-                                         serial_dofs.end());
           }
+      std::sort(rank_vertex_dofs.begin(), rank_vertex_dofs.end());
+      rank_vertex_dofs.erase(std::unique(rank_vertex_dofs.begin(),
+                                         rank_vertex_dofs.end()),
+                             rank_vertex_dofs.end());
+      rank_cell_dofs = ranks_cell_dofs;
+
+      // Each rank's answers for its own DoFs make the whole flags.
+      std::vector<unsigned char> whole(n, 0);
+      Point<3>                   owned_points_sum;
+      for (const auto dof : owned)
+        {
+          whole[dof] = join[dof];
+          owned_points_sum += dof_points[dof];
+        }
+      release(join);
+      const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                     whole.data(),
+                                     whole.size(),
+                                     MPI_UNSIGNED_CHAR,
+                                     MPI_MAX,
+                                     communicator);
+      AssertThrowMPI(ierr);
+      is_join.assign(whole.begin(), whole.end());
+      // Rotations about the centroid of all the DoFs' points, as on one rank.
+      dof_points_centroid = Point<3>(
+        Utilities::MPI::sum(Tensor<1, 3>(owned_points_sum), communicator) /
+        std::max<double>(n, 1));
+
+      rank_cell_all_join.assign(rank_cells.size(), true);
+      for (unsigned int k = 0; k < rank_cells.size(); ++k)
+        for (unsigned int i = 0; i < n_cell; ++i)
+          if (!is_join[rank_cell_dofs[n_cell * k + i]])
+            rank_cell_all_join[k] = false;
+
+      // The body force against this layout's shape functions, on the cells
+      // this rank owns, by the scene's rule per material id (the serial
+      // cell_body_force), summed over the ranks.
+      if (scene->has_body_force())
+        {
+          const QGaussSimplex<3> quadrature(3);
+          FEValues<3>            fe_values(scene->mapping,
+                                *fe,
+                                quadrature,
+                                update_values | update_JxW_values);
+          layout_body_force.reinit(n);
+          for (const auto &cell : ranks_dofs->active_cell_iterators())
+            if (cell->is_locally_owned())
+              {
+                fe_values.reinit(cell);
+                cell->get_dof_indices(dofs);
+                const Tensor<1, 3> b =
+                  scene->effects.mass_density(cell->material_id()) *
+                  scene->effects.acceleration;
+                for (unsigned int i = 0; i < n_cell; ++i)
+                  {
+                    const unsigned int c =
+                      fe->system_to_component_index(i).first;
+                    for (unsigned int q = 0; q < quadrature.size(); ++q)
+                      layout_body_force[dofs[i]] +=
+                        b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
+                  }
+              }
+          sum_over_ranks(layout_body_force);
+          body_force = &layout_body_force;
+        }
+    }
+
+    void
+    ReferenceFEM::sum_over_ranks(Vector<double> &whole) const
+    {
+      const int ierr = MPI_Allreduce(MPI_IN_PLACE,
+                                     whole.data(),
+                                     whole.size(),
+                                     MPI_DOUBLE,
+                                     MPI_SUM,
+                                     communicator);
+      AssertThrowMPI(ierr);
     }
 
     bool
@@ -269,7 +403,6 @@ namespace softface
       std::vector<double> u_cell(n);
       Vector<double>      f_cell(n);
       FullMatrix<double>  K_cell(n, n);
-      const auto         &tissue_of_cell = scene->effects.tissue_of_cell;
       // The first refused cell in the scene's order, as on one rank.
       unsigned int refused = numbers::invalid_unsigned_int;
       for (unsigned int k = 0; k < rank_cells.size(); ++k)
@@ -278,9 +411,8 @@ namespace softface
           const unsigned int c    = DistributedLayout::serial_cell_index(cell);
           fe_values.reinit(cell);
           for (unsigned int i = 0; i < n; ++i)
-            u_cell[i] = u[rank_cell_serial_dofs[n * k + i]];
-          const Lame &lame =
-            tissue_lame[tissue_of_cell.empty() ? 0 : tissue_of_cell[c]];
+            u_cell[i] = u[rank_cell_dofs[n * k + i]];
+          const Lame &lame = tissue_lame[ranks_layout->tissue_of_cell(cell)];
           if (Elasticity::cell_response(law,
                                         lame,
                                         fe_values,
@@ -289,7 +421,7 @@ namespace softface
                                         f_cell,
                                         with_tangent ? &K_cell : nullptr))
             distributed_tangent->add_cell(k, f_cell, K_cell);
-          else if (!all_join_cell[c])
+          else if (!rank_cell_all_join[k])
             refused = std::min(refused, c);
         }
       return end_evaluation_on_ranks(forces, refused);
@@ -332,6 +464,35 @@ namespace softface
       motion.reinit(is_join.size());
       const auto        &unit_points = fe->get_unit_support_points();
       const unsigned int n_cell      = fe->n_dofs_per_cell();
+      if (ranks_dofs)
+        {
+          // Each rank its own DoFs, from its cells at them; summed.
+          const IndexSet &owned = ranks_dofs->locally_owned_dofs();
+          for (unsigned int k = 0; k < rank_cells.size(); ++k)
+            {
+              const DoFHandler<3>::active_cell_iterator p1_cell(
+                &ranks_layout->triangulation,
+                rank_cells[k]->level(),
+                rank_cells[k]->index(),
+                &ranks_layout->dof_handler);
+              for (unsigned int i = 0; i < n_cell; ++i)
+                if (const auto dof = rank_cell_dofs[n_cell * k + i];
+                    is_join[dof] && owned.is_element(dof))
+                  {
+                    const unsigned int c =
+                      fe->system_to_component_index(i).first;
+                    const std::array<double, 4> weight =
+                      vertex_weights(unit_points[i]);
+                    double value = 0.;
+                    for (unsigned int a = 0; a < 4; ++a)
+                      value += weight[a] * prescribed[ranks_layout->serial_dof(
+                                             p1_cell->vertex_dof_index(a, c))];
+                    motion[dof] = value;
+                  }
+            }
+          sum_over_ranks(motion);
+          return;
+        }
       std::vector<types::global_dof_index> dofs(n_cell);
       for (const auto &cell : dof_handler->active_cell_iterators())
         {
@@ -357,7 +518,14 @@ namespace softface
                                 Vector<double>       &displacement)
     {
       solution = u;
-      displacement.reinit(scene->dof_handler.n_dofs());
+      displacement.reinit(scene->n_dofs());
+      if (ranks_dofs)
+        {
+          for (const auto &[vertex_dof, dof] : rank_vertex_dofs)
+            displacement[vertex_dof] = u[dof];
+          sum_over_ranks(displacement);
+          return;
+        }
       for (unsigned int i = 0; i < displacement.size(); ++i)
         if (at_vertex_dof[i] != numbers::invalid_dof_index)
           displacement[i] = u[at_vertex_dof[i]];
@@ -366,9 +534,49 @@ namespace softface
     std::pair<const DoFHandler<3> *, const Vector<double> *>
     ReferenceFEM::displacement_field() const
     {
-      if (solution.size() > 0)
+      if (solution.size() > 0 && dof_handler)
         return {dof_handler.get(), &solution};
       return {nullptr, nullptr};
+    }
+
+    bool
+    ReferenceFEM::displacement_field_at(
+      const std::vector<unsigned int> &cells,
+      const std::vector<Point<3>>     &reference_points,
+      std::vector<Tensor<1, 3>>       &values) const
+    {
+      if (!ranks_dofs || solution.size() == 0)
+        return false;
+      // Each point on the rank that owns its cell: the layout's cell has the
+      // scene's cell's vertices in the same order, so the point has the same
+      // reference coordinates in it and its local shape functions are the
+      // serial cell's.
+      std::multimap<unsigned int, unsigned int> points_of_cell;
+      for (unsigned int p = 0; p < cells.size(); ++p)
+        points_of_cell.emplace(cells[p], p);
+      std::vector<double>                  flat(3 * cells.size(), 0.);
+      std::vector<types::global_dof_index> dofs(fe->n_dofs_per_cell());
+      for (const auto &cell : ranks_dofs->active_cell_iterators())
+        if (cell->is_locally_owned())
+          {
+            const auto [first, last] = points_of_cell.equal_range(
+              DistributedLayout::serial_cell_index(cell));
+            if (first == last)
+              continue;
+            cell->get_dof_indices(dofs);
+            for (auto point = first; point != last; ++point)
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                flat[3 * point->second +
+                     fe->system_to_component_index(i).first] +=
+                  solution[dofs[i]] *
+                  fe->shape_value(i, reference_points[point->second]);
+          }
+      Utilities::MPI::sum(flat, communicator, flat);
+      values.assign(cells.size(), Tensor<1, 3>());
+      for (unsigned int p = 0; p < cells.size(); ++p)
+        for (unsigned int d = 0; d < 3; ++d)
+          values[p][d] = flat[3 * p + d];
+      return true;
     }
 
     SOFTFACE_REGISTER_MODEL(ReferenceFEM,

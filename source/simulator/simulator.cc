@@ -260,8 +260,12 @@ namespace softface
                                      effects;
     PlanningList                     plannings;
     std::unique_ptr<PointEvaluation> evaluation;
-    SkinParameters                   skin_parameters;
-    std::unique_ptr<SkinOutput>      skin;
+    // On several MPI ranks, on every rank: the evaluation points' cells and
+    // reference coordinates, for a model whose field lives on the ranks.
+    std::vector<unsigned int>   evaluation_cells;
+    std::vector<Point<3>>       evaluation_reference_points;
+    SkinParameters              skin_parameters;
+    std::unique_ptr<SkinOutput> skin;
     // On several MPI ranks every rank runs the scene; rank 0 alone writes
     // the outputs.
     bool writes_outputs = true;
@@ -506,6 +510,21 @@ namespace softface
           {
             throw Error("Output/Evaluation points '" + points_file.string() +
                         "': " + e.what());
+          }
+        if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+          {
+            if (evaluation)
+              {
+                state->evaluation_cells = evaluation->cell_indices();
+                state->evaluation_reference_points =
+                  evaluation->reference_coordinates();
+              }
+            state->evaluation_cells =
+              Utilities::MPI::broadcast(MPI_COMM_WORLD,
+                                        state->evaluation_cells);
+            state->evaluation_reference_points =
+              Utilities::MPI::broadcast(MPI_COMM_WORLD,
+                                        state->evaluation_reference_points);
           }
         out << "  " << points.size() << " evaluation points from "
             << points_file.string() << std::endl;
@@ -835,18 +854,28 @@ namespace softface
                 for (const auto &warning : run.statistics.warnings)
                   err << "softface: warning: " << run.label() << ": " << warning
                       << std::endl;
-                if (evaluation && writes)
+                if (!output.evaluation_points.empty())
                   {
+                    // A field on the ranks' parts of the mesh (the
+                    // quadratic reference there) is evaluated by all ranks.
+                    std::vector<Tensor<1, 3>> values;
+                    const bool on_ranks = !use_basis && n_ranks > 1 &&
+                                          model->displacement_field_at(
+                                            state->evaluation_cells,
+                                            state->evaluation_reference_points,
+                                            values);
                     const auto [field_dofs, field] =
                       model->displacement_field();
-                    write_point_values_csv(
-                      evaluation->points(),
-                      field_dofs != nullptr && !use_basis ?
-                        evaluation->evaluate(*field_dofs, *field) :
-                        evaluation->evaluate(scene.dof_handler,
-                                             run.displacement),
-                      output.directory + "/evaluation_" +
-                        Output::file_name_of(run.label()) + ".csv");
+                    if (evaluation && writes)
+                      write_point_values_csv(
+                        evaluation->points(),
+                        on_ranks ? values :
+                        field_dofs != nullptr && !use_basis ?
+                                   evaluation->evaluate(*field_dofs, *field) :
+                                   evaluation->evaluate(scene.dof_handler,
+                                                        run.displacement),
+                        output.directory + "/evaluation_" +
+                          Output::file_name_of(run.label()) + ".csv");
                   }
               }
             catch (const std::exception &e)

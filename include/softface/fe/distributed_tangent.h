@@ -48,7 +48,9 @@ namespace softface
      * triangulation: its k-th locally relevant DoF is the model's serial DoF
      * @p serial_dof_of_relevant[k]. @p serial_is_join are the model's join
      * DoFs; @p serial_points and @p serial_component its DoFs' support
-     * points and components (ML's rigid-body modes).
+     * points and components (ML's rigid-body modes, rotations about the
+     * centroid of all the points). Where @p points_centroid is given, the
+     * points need be set at this rank's own DoFs only.
      */
     DistributedTangent(
       const DoFHandler<3>                        &dof_handler,
@@ -56,7 +58,8 @@ namespace softface
       const std::vector<bool>                    &serial_is_join,
       const std::vector<Point<3>>                &serial_points,
       const std::vector<unsigned int>            &serial_component,
-      const LinearSolver::Parameters             &parameters);
+      const LinearSolver::Parameters             &parameters,
+      const Point<3>                             *points_centroid = nullptr);
 
     /**
      * The cells this rank evaluates, by their DoFs (@p dofs_per_cell each,

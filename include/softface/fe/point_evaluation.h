@@ -42,6 +42,14 @@ namespace softface
     const std::vector<Point<3>> &
     points() const;
 
+    /// The active cell index of each point's cell.
+    std::vector<unsigned int>
+    cell_indices() const;
+
+    /// Each point's coordinates in its cell's reference cell.
+    const std::vector<Point<3>> &
+    reference_coordinates() const;
+
   private:
     std::vector<Point<3>>                               evaluation_points;
     std::vector<Triangulation<3>::active_cell_iterator> cells;

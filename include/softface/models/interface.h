@@ -133,6 +133,18 @@ namespace softface
       displacement_field() const;
 
       /**
+       * On several MPI ranks, where a model's field lives on the ranks'
+       * parts of the mesh: the field at the points in the scene's active
+       * cells @p cells at @p reference_points there, into @p values on every
+       * rank; false (on every rank) if the model has no such field.
+       * Collective.
+       */
+      virtual bool
+      displacement_field_at(const std::vector<unsigned int> &cells,
+                            const std::vector<Point<3>>     &reference_points,
+                            std::vector<Tensor<1, 3>>       &values) const;
+
+      /**
        * Where a long solve reports its progress (load steps, sweeps); none
        * by default. The simulator points it at stdout.
        */

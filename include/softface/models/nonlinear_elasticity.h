@@ -13,6 +13,7 @@
 #include <softface/models/interface.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,11 @@ namespace softface
       /// The DoFs the model solves for.
       unsigned int
       n_dofs() const;
+
+      /// Where it evaluates on the ranks (why_not_on_ranks_by_parameters()
+      /// empty): each rank reads its part of the mesh only.
+      bool
+      runs_without_scene_cells() const override;
 
       const LoadSteppedNewton::Report &
       report() const;
@@ -142,6 +148,9 @@ namespace softface
       SparsityPattern           sparsity;
       std::vector<Point<3>>     dof_points;
       std::vector<unsigned int> dof_component;
+      /// On several MPI ranks, where a model sets dof_points at the DoFs a
+      /// rank owns only: the centroid of all (ML's rotations turn about it).
+      std::optional<Point<3>> dof_points_centroid;
       /// Set by evaluate() when it refuses a state.
       mutable std::string refusal;
       /// " (cell N at (x, y, z), join points of 'a' 'b')": where a refused

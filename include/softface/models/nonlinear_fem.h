@@ -42,10 +42,6 @@ namespace softface
       evaluate_on_ranks(const Vector<double> &u,
                         Vector<double>       &forces,
                         const bool            with_tangent) const override;
-      /// Where it evaluates on the ranks (why_not_on_ranks_by_parameters()
-      /// empty): each rank reads its part of the mesh only.
-      bool
-      runs_without_scene_cells() const override;
 
     protected:
       void

@@ -28,7 +28,9 @@ namespace softface
      * A DoF is a join DoF if it lies on a bone segment's cell or boundary
      * face; it follows the segment's rigid motion, which is affine, so its
      * value is the linear interpolation of the cell's vertex values. solve()
-     * returns the vertex values; displacement_field() gives the whole field.
+     * returns the vertex values; displacement_field() gives the whole field
+     * (displacement_field_at() on several MPI ranks, where the model's DoFs
+     * live on the ranks' parts of the mesh).
      */
     class ReferenceFEM : public NonlinearElasticity
     {
@@ -58,9 +60,15 @@ namespace softface
                         Vector<double>       &forces,
                         const bool            with_tangent) const override;
 
-      /// The whole field after solve().
+      /// The whole field after a serial solve().
       std::pair<const DoFHandler<3> *, const Vector<double> *>
       displacement_field() const override;
+
+      /// The field at points after a solve() on several MPI ranks.
+      bool
+      displacement_field_at(const std::vector<unsigned int> &cells,
+                            const std::vector<Point<3>>     &reference_points,
+                            std::vector<Tensor<1, 3>> &values) const override;
 
     protected:
       void
@@ -75,25 +83,44 @@ namespace softface
     private:
       unsigned int degree = 2;
 
-      std::unique_ptr<FESystem<3>>   fe;
-      std::unique_ptr<DoFHandler<3>> dof_handler;
-      /// The DoF at each vertex DoF of the shared layout.
-      std::vector<types::global_dof_index> at_vertex_dof;
-      Vector<double>                       solution;
-      /// Cells all of whose DoFs are join DoFs (see NonlinearFEM).
-      std::vector<bool> all_join_cell;
-      std::vector<Lame> tissue_lame;
-      Vector<double>    layout_body_force;
+      std::unique_ptr<FESystem<3>> fe;
+      std::vector<Lame>            tissue_lame;
+      /// The solution (whole, in the model's numbering) after solve().
+      Vector<double> solution;
+      Vector<double> layout_body_force;
 
-      /// On several MPI ranks: the model's DoFs on the layout's
-      /// triangulation, the cells this rank evaluates (its own and the
-      /// ghost cells at its DoFs) and their DoFs in the serial layout.
+      /// On one rank: the element's DoFs on the scene's mesh, the DoF at
+      /// each vertex DoF of the shared layout, and the cells all of whose
+      /// DoFs are join DoFs (see NonlinearFEM).
+      std::unique_ptr<DoFHandler<3>>       dof_handler;
+      std::vector<types::global_dof_index> at_vertex_dof;
+      std::vector<bool>                    all_join_cell;
+      /// Build them.
+      void
+      setup_serial();
+
+      /**
+       * On several MPI ranks: the element's DoFs on the layout's
+       * triangulation, which number the model's whole vectors (nothing of
+       * the scene's cells is read, so the members of a group of ranks may
+       * hold none); the cells this rank evaluates (its own and the ghost
+       * cells at its DoFs), their DoFs and whether all of them are join
+       * DoFs; and the shared layout's DoF (serial) of each vertex DoF this
+       * rank owns.
+       */
       std::unique_ptr<DoFHandler<3>>                   ranks_dofs;
       std::vector<DoFHandler<3>::active_cell_iterator> rank_cells;
-      std::vector<types::global_dof_index>             rank_cell_serial_dofs;
-      /// Build them (setup_layout() on several ranks).
+      std::vector<types::global_dof_index>             rank_cell_dofs;
+      std::vector<bool>                                rank_cell_all_join;
+      std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
+        rank_vertex_dofs;
+      /// Build them.
       void
       setup_ranks();
+      /// Each rank's part of @p whole (zero elsewhere) summed over the
+      /// ranks, on every rank. Collective.
+      void
+      sum_over_ranks(Vector<double> &whole) const;
     };
   } // namespace Models
 } // namespace softface
