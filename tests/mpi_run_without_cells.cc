@@ -11,7 +11,9 @@
 // Then the quadratic reference alone on a coarser gmsh mesh: its DoFs live on
 // the ranks' parts, so its members hold no cells either; its vertex values
 // and its field at the evaluation points (each point evaluated by the rank
-// that owns its cell) equal the serial reference's.
+// that owns its cell) equal the serial reference's. On 3 and 4 ranks, last:
+// a root that reads another mesh (another file of the same name on its node)
+// stops every rank with one message.
 
 #include <deal.II/base/mpi.h>
 
@@ -166,6 +168,44 @@ namespace
                     quadratic_to_linear / largest,
                     1e-4);
       }
+  }
+
+  // Rank 2, the second group's root, reads the coarse mesh where rank 0
+  // reads the cube: their fingerprints differ, and every rank stops.
+  void
+  check_roots_with_different_meshes(const std::string &stem,
+                                    const MPI_Comm     comm)
+  {
+    const unsigned int rank = Utilities::MPI::this_mpi_process(comm);
+    const std::string  name = stem + "meshes_" + std::to_string(rank);
+    const std::string  file =
+      rank_scene(comm,
+                 "mpi_run_without_cells.prm",
+                 name,
+                 name + "_output",
+                 "subsection Scene\n  set Mesh file = " +
+                   source_file(rank == 2 ? "data/offcentre_coarse/mesh.msh" :
+                                           "data/cube30k/mesh.msh") +
+                   "\nend\n");
+    std::ostringstream log, errors;
+    Simulator          simulator;
+    std::string        message;
+    try
+      {
+        simulator.run(file, log, errors);
+      }
+    catch (const std::exception &e)
+      {
+        message = e.what();
+      }
+    deallog << "the second root reads another mesh:" << std::endl;
+    check_equal("  ranks whose run stops with the message",
+                Utilities::MPI::sum(
+                  int(message.find("the roots of the groups of MPI ranks "
+                                   "read different meshes from") !=
+                      std::string::npos),
+                  comm),
+                Utilities::MPI::n_mpi_processes(comm));
   }
 } // namespace
 
@@ -374,4 +414,6 @@ SOFTFACE_TEST(mpi_run_without_cells)
                                    "segment_id"});
     }
   check_reference_without_cells(stem, comm);
+  if (n_ranks >= 3)
+    check_roots_with_different_meshes(stem, comm);
 }

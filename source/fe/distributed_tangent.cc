@@ -46,7 +46,8 @@ namespace softface
     // This rank's rows, in the order of its owned DoFs (the matrix's and the
     // vectors' local order): their serial DoFs, join flags and ML's null
     // space (rotations about the centroid of all the model's DoF points, as
-    // the serial LinearSolver takes them; every rank holds them all).
+    // the serial LinearSolver takes them: from every rank's whole points, or
+    // given by the model where a rank holds its own only).
     const unsigned int n_rows = locally_owned_dofs.n_elements();
     row_serial_dof.resize(n_rows);
     row_is_join.resize(n_rows);

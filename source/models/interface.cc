@@ -177,7 +177,8 @@ namespace softface
     }
 
     bool
-    Interface::displacement_field_at(const std::vector<unsigned int> &,
+    Interface::displacement_field_at(const std::vector<Point<3>> &,
+                                     const std::vector<unsigned int> &,
                                      const std::vector<Point<3>> &,
                                      std::vector<Tensor<1, 3>> &) const
     {

@@ -229,7 +229,8 @@ namespace softface
           bone = load_path(load);
           join_motion(bone, target);
         });
-      newton.set_initial_guess(initial_guess);
+      Vector<double> guess;
+      newton.set_initial_guess(guess_in_model_numbering(initial_guess, guess));
       newton.set_distributed_tangent(distributed_tangent.get());
       if (vertex_constraints)
         newton.set_vertex_constraints(vertex_constraints.get(),
@@ -271,6 +272,13 @@ namespace softface
       add_detail("linear iterations", last_report.linear_iterations);
       if (solver_parameters.method != "direct")
         add_detail("AMG rebuilds", last_report.amg_rebuilds);
+    }
+
+    const Vector<double> *
+    NonlinearElasticity::guess_in_model_numbering(const Vector<double> *guess,
+                                                  Vector<double> &) const
+    {
+      return guess;
     }
 
     bool

@@ -78,6 +78,8 @@ namespace softface
       at_vertex_dof.clear();
       all_join_cell.clear();
       solution.reinit(0);
+      has_solution = false;
+      relevant_solution.clear();
       rank_cells.clear();
       rank_cell_dofs.clear();
       rank_cell_all_join.clear();
@@ -220,9 +222,8 @@ namespace softface
       ranks_dof_handler                   = ranks_dofs.get();
       const types::global_dof_index n     = ranks_dofs->n_dofs();
       const IndexSet               &owned = ranks_dofs->locally_owned_dofs();
-      IndexSet                      relevant;
-      DoFTools::extract_locally_relevant_dofs(*ranks_dofs, relevant);
-      ranks_serial_dofs.assign(relevant.begin(), relevant.end());
+      DoFTools::extract_locally_relevant_dofs(*ranks_dofs, relevant_dofs);
+      ranks_serial_dofs.assign(relevant_dofs.begin(), relevant_dofs.end());
       ranks_dofs_per_cell = fe->n_dofs_per_cell();
       ranks_cell_dofs.clear();
 
@@ -238,6 +239,7 @@ namespace softface
       dof_points.assign(n, Point<3>());
       dof_component.assign(n, 0);
       std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
+      std::vector<bool> owned_vertex_dof_seen(owned.n_elements(), false);
       for (const auto &cell : ranks_dofs->active_cell_iterators())
         if (!cell->is_artificial())
           {
@@ -265,9 +267,15 @@ namespace softface
                         const auto vertex_dof = p1_cell->vertex_dof_index(a, c);
                         if (layout.is_join_dof(vertex_dof))
                           join[dofs[i]] = 1;
-                        if (owned.is_element(dofs[i]))
-                          rank_vertex_dofs.emplace_back(
-                            layout.serial_dof(vertex_dof), dofs[i]);
+                        if (owned.is_element(dofs[i]) &&
+                            !owned_vertex_dof_seen[owned.index_within_set(
+                              dofs[i])])
+                          {
+                            owned_vertex_dof_seen[owned.index_within_set(
+                              dofs[i])] = true;
+                            rank_vertex_dofs.emplace_back(
+                              layout.serial_dof(vertex_dof), dofs[i]);
+                          }
                       }
                   }
                 dof_points[dofs[i]]    = x;
@@ -306,29 +314,27 @@ namespace softface
                                    dofs.begin(),
                                    dofs.end());
           }
-      std::sort(rank_vertex_dofs.begin(), rank_vertex_dofs.end());
-      rank_vertex_dofs.erase(std::unique(rank_vertex_dofs.begin(),
-                                         rank_vertex_dofs.end()),
-                             rank_vertex_dofs.end());
       rank_cell_dofs = ranks_cell_dofs;
 
       // Each rank's answers for its own DoFs make the whole flags.
-      std::vector<unsigned char> whole(n, 0);
-      Point<3>                   owned_points_sum;
+      Point<3>                owned_points_sum;
+      types::global_dof_index next = 0;
       for (const auto dof : owned)
         {
-          whole[dof] = join[dof];
+          std::fill(join.begin() + next, join.begin() + dof, 0);
+          next = dof + 1;
           owned_points_sum += dof_points[dof];
         }
-      release(join);
+      std::fill(join.begin() + next, join.end(), 0);
       const int ierr = MPI_Allreduce(MPI_IN_PLACE,
-                                     whole.data(),
-                                     whole.size(),
+                                     join.data(),
+                                     join.size(),
                                      MPI_UNSIGNED_CHAR,
                                      MPI_MAX,
                                      communicator);
       AssertThrowMPI(ierr);
-      is_join.assign(whole.begin(), whole.end());
+      is_join.assign(join.begin(), join.end());
+      release(join);
       // Rotations about the centroid of all the DoFs' points, as on one rank.
       dof_points_centroid = Point<3>(
         Utilities::MPI::sum(Tensor<1, 3>(owned_points_sum), communicator) /
@@ -517,40 +523,71 @@ namespace softface
     ReferenceFEM::vertex_values(const Vector<double> &u,
                                 Vector<double>       &displacement)
     {
-      solution = u;
       displacement.reinit(scene->n_dofs());
+      has_solution = true;
       if (ranks_dofs)
         {
+          // The field at the evaluation points needs this rank's DoFs only.
+          relevant_solution.resize(relevant_dofs.n_elements());
+          for (unsigned int k = 0; k < relevant_solution.size(); ++k)
+            relevant_solution[k] = u[relevant_dofs.nth_index_in_set(k)];
           for (const auto &[vertex_dof, dof] : rank_vertex_dofs)
             displacement[vertex_dof] = u[dof];
           sum_over_ranks(displacement);
           return;
         }
+      solution = u;
       for (unsigned int i = 0; i < displacement.size(); ++i)
         if (at_vertex_dof[i] != numbers::invalid_dof_index)
           displacement[i] = u[at_vertex_dof[i]];
     }
 
+    const Vector<double> *
+    ReferenceFEM::guess_in_model_numbering(const Vector<double> *guess,
+                                           Vector<double> &translated) const
+    {
+      // Linear elements: the vertex values in the model's numbering, which
+      // is its own DoFHandler's (the scene's may be renumbered) or, on the
+      // ranks, the layout's. Quadratic ones have DoFs between the vertices:
+      // the guess's size tells Newton it is not theirs.
+      if (guess == nullptr || degree != 1)
+        return guess;
+      translated.reinit(is_join.size());
+      if (ranks_dofs)
+        {
+          for (const auto &[vertex_dof, dof] : rank_vertex_dofs)
+            translated[dof] = (*guess)[vertex_dof];
+          sum_over_ranks(translated);
+        }
+      else
+        for (unsigned int i = 0; i < at_vertex_dof.size(); ++i)
+          if (at_vertex_dof[i] != numbers::invalid_dof_index)
+            translated[at_vertex_dof[i]] = (*guess)[i];
+      return &translated;
+    }
+
     std::pair<const DoFHandler<3> *, const Vector<double> *>
     ReferenceFEM::displacement_field() const
     {
-      if (solution.size() > 0 && dof_handler)
+      if (has_solution && dof_handler)
         return {dof_handler.get(), &solution};
       return {nullptr, nullptr};
     }
 
     bool
     ReferenceFEM::displacement_field_at(
+      const std::vector<Point<3>>     &points,
       const std::vector<unsigned int> &cells,
       const std::vector<Point<3>>     &reference_points,
       std::vector<Tensor<1, 3>>       &values) const
     {
-      if (!ranks_dofs || solution.size() == 0)
+      if (!ranks_dofs || !has_solution)
         return false;
       // Each point on the rank that owns its cell: the layout's cell has the
       // scene's cell's vertices in the same order, so the point has the same
-      // reference coordinates in it and its local shape functions are the
-      // serial cell's.
+      // reference coordinates in it (checked: they map to the point) and its
+      // local shape functions are the serial cell's.
+      unsigned int misplaced = numbers::invalid_unsigned_int;
       std::multimap<unsigned int, unsigned int> points_of_cell;
       for (unsigned int p = 0; p < cells.size(); ++p)
         points_of_cell.emplace(cells[p], p);
@@ -565,13 +602,29 @@ namespace softface
               continue;
             cell->get_dof_indices(dofs);
             for (auto point = first; point != last; ++point)
-              for (unsigned int i = 0; i < dofs.size(); ++i)
-                flat[3 * point->second +
-                     fe->system_to_component_index(i).first] +=
-                  solution[dofs[i]] *
-                  fe->shape_value(i, reference_points[point->second]);
+              {
+                const Point<3> &xi = reference_points[point->second];
+                const std::array<double, 4> weight = vertex_weights(xi);
+                Point<3>                    x;
+                for (unsigned int a = 0; a < 4; ++a)
+                  x += weight[a] * cell->vertex(a);
+                if (x.distance(points[point->second]) >
+                    1e-8 * (1. + cell->diameter()))
+                  misplaced = std::min(misplaced, point->second);
+                for (unsigned int i = 0; i < dofs.size(); ++i)
+                  flat[3 * point->second +
+                       fe->system_to_component_index(i).first] +=
+                    relevant_solution[relevant_dofs.index_within_set(dofs[i])] *
+                    fe->shape_value(i, xi);
+              }
           }
       Utilities::MPI::sum(flat, communicator, flat);
+      misplaced = Utilities::MPI::min(misplaced, communicator);
+      AssertThrow(misplaced == numbers::invalid_unsigned_int,
+                  ExcMessage("Evaluation point " +
+                             std::to_string(misplaced + 1) +
+                             ": its cell on the MPI ranks is not the "
+                             "scene's cell of the same number."));
       values.assign(cells.size(), Tensor<1, 3>());
       for (unsigned int p = 0; p < cells.size(); ++p)
         for (unsigned int d = 0; d < 3; ++d)

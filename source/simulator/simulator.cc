@@ -260,8 +260,10 @@ namespace softface
                                      effects;
     PlanningList                     plannings;
     std::unique_ptr<PointEvaluation> evaluation;
-    // On several MPI ranks, on every rank: the evaluation points' cells and
-    // reference coordinates, for a model whose field lives on the ranks.
+    // On several MPI ranks, on every rank: the evaluation points, their
+    // cells and reference coordinates, for a model whose field lives on the
+    // ranks.
+    std::vector<Point<3>>       evaluation_points;
     std::vector<unsigned int>   evaluation_cells;
     std::vector<Point<3>>       evaluation_reference_points;
     SkinParameters              skin_parameters;
@@ -513,6 +515,7 @@ namespace softface
           }
         if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
           {
+            state->evaluation_points = points;
             if (evaluation)
               {
                 state->evaluation_cells = evaluation->cell_indices();
@@ -861,6 +864,7 @@ namespace softface
                     std::vector<Tensor<1, 3>> values;
                     const bool on_ranks = !use_basis && n_ranks > 1 &&
                                           model->displacement_field_at(
+                                            state->evaluation_points,
                                             state->evaluation_cells,
                                             state->evaluation_reference_points,
                                             values);

@@ -127,20 +127,23 @@ namespace softface
        * The displacement field between the vertices, for evaluation at
        * arbitrary points: a model on its own layout (the quadratic
        * reference) returns it here; by default nothing, and the vertex
-       * values solve() returned are interpolated linearly.
+       * values solve() returned are interpolated linearly. Nothing either
+       * where the field lives on the MPI ranks' parts of the mesh: there
+       * displacement_field_at() gives it.
        */
       virtual std::pair<const DoFHandler<3> *, const Vector<double> *>
       displacement_field() const;
 
       /**
        * On several MPI ranks, where a model's field lives on the ranks'
-       * parts of the mesh: the field at the points in the scene's active
-       * cells @p cells at @p reference_points there, into @p values on every
-       * rank; false (on every rank) if the model has no such field.
+       * parts of the mesh: the field at @p points, which lie in the scene's
+       * active cells @p cells at @p reference_points there, into @p values
+       * on every rank; false (on every rank) if the model has no such field.
        * Collective.
        */
       virtual bool
-      displacement_field_at(const std::vector<unsigned int> &cells,
+      displacement_field_at(const std::vector<Point<3>>     &points,
+                            const std::vector<unsigned int> &cells,
                             const std::vector<Point<3>>     &reference_points,
                             std::vector<Tensor<1, 3>>       &values) const;
 

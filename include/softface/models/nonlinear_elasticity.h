@@ -85,7 +85,8 @@ namespace softface
        * Build the layout: fill is_join and sparsity, and, for a layout other
        * than the scene's, dof_points and dof_component (ML's rigid-body
        * modes; on several MPI ranks do_setup() frees them once the
-       * distributed tangent holds its own rows' points).
+       * distributed tangent holds its own rows' points, and they need be
+       * set at the rank's own DoFs only where dof_points_centroid is set).
        */
       virtual void
       setup_layout() = 0;
@@ -97,6 +98,12 @@ namespace softface
       /// The vertex values (shared layout) of a solution @p u on the layout.
       virtual void
       vertex_values(const Vector<double> &u, Vector<double> &displacement) = 0;
+      /// The initial guess @p guess (vertex values of the shared layout) in
+      /// the layout's numbering, in @p translated if it must be moved
+      /// there; by default @p guess itself. Collective where it moves it.
+      virtual const Vector<double> *
+      guess_in_model_numbering(const Vector<double> *guess,
+                               Vector<double>       &translated) const;
 
       /**
        * On several MPI ranks: why the model runs whole on every rank, or
@@ -169,9 +176,11 @@ namespace softface
       /// sparsity is left empty and the tangent lives in
       /// distributed_tangent, which do_setup() builds from what
       /// setup_layout() put in the ranks_* members: the model's DoFs on the
-      /// layout's triangulation, the serial DoF of each locally relevant one
-      /// (in the order of the index set), and the DoFs of the cells this
-      /// rank evaluates (emptied once the tangent has them).
+      /// layout's triangulation, the serial DoF (the index into the model's
+      /// whole vectors; the DoF itself where the model numbers them on the
+      /// ranks' parts, as the quadratic reference does) of each locally
+      /// relevant one (in the order of the index set), and the DoFs of the
+      /// cells this rank evaluates (emptied once the tangent has them).
       const DistributedLayout             *ranks_layout      = nullptr;
       const DoFHandler<3>                 *ranks_dof_handler = nullptr;
       std::vector<types::global_dof_index> ranks_serial_dofs;

@@ -1,6 +1,7 @@
 #ifndef softface_models_reference_fem_h
 #define softface_models_reference_fem_h
 
+#include <deal.II/base/index_set.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 
@@ -60,13 +61,15 @@ namespace softface
                         Vector<double>       &forces,
                         const bool            with_tangent) const override;
 
-      /// The whole field after a serial solve().
+      /// The whole field after a solve() that ran whole (on one rank, or
+      /// where why_not_on_ranks() says so).
       std::pair<const DoFHandler<3> *, const Vector<double> *>
       displacement_field() const override;
 
-      /// The field at points after a solve() on several MPI ranks.
+      /// The field at points after a solve() on the ranks.
       bool
-      displacement_field_at(const std::vector<unsigned int> &cells,
+      displacement_field_at(const std::vector<Point<3>>     &points,
+                            const std::vector<unsigned int> &cells,
                             const std::vector<Point<3>>     &reference_points,
                             std::vector<Tensor<1, 3>> &values) const override;
 
@@ -79,22 +82,26 @@ namespace softface
       void
       vertex_values(const Vector<double> &u,
                     Vector<double>       &displacement) override;
+      const Vector<double> *
+      guess_in_model_numbering(const Vector<double> *guess,
+                               Vector<double>       &translated) const override;
 
     private:
       unsigned int degree = 2;
 
       std::unique_ptr<FESystem<3>> fe;
       std::vector<Lame>            tissue_lame;
-      /// The solution (whole, in the model's numbering) after solve().
-      Vector<double> solution;
+      /// Whether a solve() has ended, on every rank alike.
+      bool           has_solution = false;
       Vector<double> layout_body_force;
 
-      /// On one rank: the element's DoFs on the scene's mesh, the DoF at
-      /// each vertex DoF of the shared layout, and the cells all of whose
-      /// DoFs are join DoFs (see NonlinearFEM).
+      /// Where it runs whole: the element's DoFs on the scene's mesh, the
+      /// DoF at each vertex DoF of the shared layout, the cells all of whose
+      /// DoFs are join DoFs (see NonlinearFEM), and the last solution.
       std::unique_ptr<DoFHandler<3>>       dof_handler;
       std::vector<types::global_dof_index> at_vertex_dof;
       std::vector<bool>                    all_join_cell;
+      Vector<double>                       solution;
       /// Build them.
       void
       setup_serial();
@@ -105,15 +112,17 @@ namespace softface
        * the scene's cells is read, so the members of a group of ranks may
        * hold none); the cells this rank evaluates (its own and the ghost
        * cells at its DoFs), their DoFs and whether all of them are join
-       * DoFs; and the shared layout's DoF (serial) of each vertex DoF this
-       * rank owns.
+       * DoFs; the shared layout's DoF (serial) of each vertex DoF this
+       * rank owns; and the last solution at the locally relevant DoFs.
        */
       std::unique_ptr<DoFHandler<3>>                   ranks_dofs;
       std::vector<DoFHandler<3>::active_cell_iterator> rank_cells;
       std::vector<types::global_dof_index>             rank_cell_dofs;
       std::vector<bool>                                rank_cell_all_join;
       std::vector<std::pair<types::global_dof_index, types::global_dof_index>>
-        rank_vertex_dofs;
+                          rank_vertex_dofs;
+      IndexSet            relevant_dofs;
+      std::vector<double> relevant_solution;
       /// Build them.
       void
       setup_ranks();
