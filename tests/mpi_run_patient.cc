@@ -10,7 +10,10 @@
 // and nonlinear FEM runs on the ranks too. Rank 0 alone maps and writes the
 // skins (skin.csv, a skin per model) and the patient's figures; the other
 // ranks have no skin output. A truth scene as the post-operative skin is
-// refused on every rank, before any work.
+// refused on every rank, before any work. Last, linear and nonlinear FEM in
+// a group of two ranks: rank 0 alone runs the pipeline and holds the mesh,
+// rank 1 none of its cells, and the answers are the serial models' on rank
+// 0's scene.
 
 #include <deal.II/base/mpi.h>
 
@@ -26,6 +29,104 @@
 #include <sstream>
 
 using namespace softface_tests;
+
+namespace
+{
+  // Mesh_3 makes another mesh each run: only whether a figure is within its
+  // bounds is printed (the figure itself when it is not).
+  void
+  within(const std::string &what,
+         const double       value,
+         const double       low,
+         const double       high)
+  {
+    deallog << what << ": "
+            << (value >= low && value <= high ?
+                  std::string("within bounds") :
+                  std::to_string(value) + ", out of bounds")
+            << std::endl;
+  }
+
+  // The patient with the models that read only their part of the mesh
+  // (Models/Mesh group size = 2).
+  void
+  check_in_a_group(const MPI_Comm comm)
+  {
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const std::string  folder  = "output/mpi_run_patient_group";
+    const std::string  prm     = "mpi_run_patient_group.prm";
+    if (rank == 0)
+      {
+        std::filesystem::remove_all(folder);
+        std::ofstream out(prm);
+        out << "include " << source_file("mpi_run_patient.prm") << '\n'
+            << "subsection Models\n  set Models = linear fem, nonlinear fem\n"
+            << "  set Mesh group size = 2\nend\n"
+            << "subsection Output\n  set Output directory = " << folder
+            << "\nend\n";
+      }
+    MPI_Barrier(comm);
+    std::ostringstream log, errors;
+    Simulator          simulator;
+    const int          rc = simulator.run(prm, log, errors);
+    deallog << "in a group of two, linear and nonlinear FEM:" << std::endl;
+    check_equal("  largest exit code over the ranks",
+                Utilities::MPI::max(rc, comm),
+                0);
+    const Scene &scene = simulator.scene();
+    check_equal("  ranks that hold the scene's cells",
+                Utilities::MPI::sum(int(scene.has_cells()), comm),
+                (n_ranks + 1) / 2);
+    check_equal("  rank 0 says the member holds none",
+                rank != 0 ||
+                  log.str().find("the groups' members hold none "
+                                 "of the scene's cells") != std::string::npos,
+                true);
+    const auto &runs = simulator.runs();
+    check_equal("  model runs", runs.size(), 2);
+    for (const auto &run : runs)
+      {
+        check_equal("  " + run.label() + " ran on the ranks",
+                    !run.failed && ran_on_the_ranks(run, n_ranks),
+                    true);
+        const std::vector<double> answer(run.displacement.begin(),
+                                         run.displacement.end());
+        check_equal("  " + run.label() + ": ranks unlike rank 0",
+                    Utilities::MPI::sum(
+                      int(answer != Utilities::MPI::broadcast(comm, answer)),
+                      comm),
+                    0);
+      }
+    if (rank == 0 && runs.size() == 2)
+      {
+        const Vector<double> prescribed =
+          simulator.plannings().plans[0].planning.prescribed_displacement(
+            scene);
+        within("  linear fem: relative difference to the serial model "
+               "(<= 1e-8)",
+               relative_difference(runs[0].displacement,
+                                   serial_linear_fem(scene, prescribed)),
+               0.,
+               1e-8);
+        within("  nonlinear fem: relative difference to the serial model "
+               "(<= 1e-8)",
+               relative_difference(runs[1].displacement,
+                                   serial_answer("nonlinear fem",
+                                                 simulator.parameters(),
+                                                 scene,
+                                                 prescribed)),
+               0.,
+               1e-8);
+        for (const std::string file :
+             {"skin_linear_fem.ply", "skin_nonlinear_fem.ply", "solution.pvtu"})
+          check_equal("  " + file + " written",
+                      std::filesystem::exists(folder + "/" + file),
+                      true);
+        std::filesystem::remove(prm);
+      }
+  }
+} // namespace
 
 SOFTFACE_TEST(mpi_run_patient)
 {
@@ -73,21 +174,10 @@ SOFTFACE_TEST(mpi_run_patient)
                   true);
     }
 
-  // Serial runs of the same models on the same scene. Mesh_3 makes another
-  // mesh each run: only whether a figure is within its bound is printed
-  // (the figure itself when it is not).
+  // Serial runs of the same models on the same scene (within() prints
+  // whether a figure is within its bounds).
   const Vector<double> prescribed =
     simulator.plannings().plans[0].planning.prescribed_displacement(scene);
-  const auto within = [](const std::string &what,
-                         const double       value,
-                         const double       low,
-                         const double       high) {
-    deallog << what << ": "
-            << (value >= low && value <= high ?
-                  std::string("within bounds") :
-                  std::to_string(value) + ", out of bounds")
-            << std::endl;
-  };
   within("linear fem: relative difference to the serial model (<= 1e-8)",
          relative_difference(runs[0].displacement,
                              serial_linear_fem(scene, prescribed)),
@@ -156,4 +246,6 @@ SOFTFACE_TEST(mpi_run_patient)
   MPI_Barrier(comm);
   if (rank_0)
     std::filesystem::remove(truth_prm);
+
+  check_in_a_group(comm);
 }
