@@ -637,6 +637,32 @@ SOFTFACE_TEST(distributed_layout)
                 Partitioner::cell_order,
                 Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD));
 
+  // A body force on the last rank only (as if a member had been sent
+  // another scene): every rank stops before the collective that would wait.
+  {
+    const unsigned int n_ranks =
+      Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
+    Scene uneven;
+    make_two_tissue_cube(uneven, false);
+    if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == n_ranks - 1)
+      apply_effect(uneven, "gravity", {{"Gravity", "0, 0, -9.81"}});
+    int stopped = 0;
+    try
+      {
+        const DistributedLayout layout(uneven, MPI_COMM_WORLD);
+      }
+    catch (const ExceptionBase &e)
+      {
+        stopped =
+          std::string(e.what()).find("The ranks disagree on the body force") !=
+          std::string::npos;
+      }
+    deallog << "a body force on the last rank only:" << std::endl;
+    check_equal("  ranks that stop with the message",
+                Utilities::MPI::sum(stopped, MPI_COMM_WORLD),
+                int(n_ranks));
+  }
+
   ParameterHandler prm;
   Scene            gmsh;
   read_scene("peer_calculix_cube30k.prm", prm, gmsh);
