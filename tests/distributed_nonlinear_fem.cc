@@ -14,9 +14,12 @@
 //   failure decided alike on all ranks);
 // the quadratic reference model (its own layout on the ranks' mesh) on the
 // cube and on two tissues under gravity, and its degree-1 form against the
-// P1 model on the ranks; and what is not distributed (St. Venant-Kirchhoff's
-// stability test, the direct solver) runs whole on every rank and says so. A
-// solve that cannot reach its load fails on every rank with the same message.
+// P1 model on the ranks and started near that answer (its vertex values,
+// moved into the model's numbering: fewer Newton iterations than from rest,
+// as serially, with METIS's parts); and what is not distributed (St.
+// Venant-Kirchhoff's stability test, the direct solver) runs whole on every
+// rank and says so. A solve that cannot reach its load fails on every rank with
+// the same message.
 
 #include <softface/core/error.h>
 #include <softface/models/nonlinear_fem.h>

@@ -17,6 +17,7 @@
 
 #include <deal.II/base/mpi.h>
 
+#include <softface/core/distributed_layout.h>
 #include <softface/core/planning_list.h>
 #include <softface/fe/point_evaluation.h>
 #include <softface/io/points_csv.h>
@@ -28,6 +29,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <vector>
 
@@ -142,9 +144,19 @@ namespace
         const std::vector<double> written = read_evaluation_csv(
           folder + "/evaluation_reference_fem_" +
           std::string(p == 0 ? "planning" : "back") + ".csv");
-        check_equal(what + "evaluation points written",
+        check_equal(what + "evaluation values written (six per point)",
                     written.size(),
                     6 * quadratic.size());
+        // The ranks that own the points' cells (the partition is the cells'
+        // order in ranges): not rank 0 alone.
+        const auto owners =
+          cell_owners(scene.triangulation,
+                      n_ranks,
+                      DistributedLayout::Partitioner::cell_order);
+        std::set<unsigned int> evaluating;
+        for (const unsigned int c : evaluation.cell_indices())
+          evaluating.insert(owners[c]);
+        check_above(what + "ranks that evaluate a point", evaluating.size(), 2);
         double largest = 0., to_quadratic = 0., quadratic_to_linear = 0.;
         for (unsigned int q = 0; q < quadratic.size(); ++q)
           for (unsigned int d = 0; d < 3 && 6 * q + 5 < written.size(); ++d)

@@ -75,15 +75,16 @@ namespace softface
       const auto timed = phase("layout");
       fe = std::make_unique<FESystem<3>>(FE_SimplexP<3>(degree), 3);
       dof_handler.reset();
-      at_vertex_dof.clear();
-      all_join_cell.clear();
+      release(at_vertex_dof);
+      release(all_join_cell);
       solution.reinit(0);
       has_solution = false;
-      relevant_solution.clear();
-      rank_cells.clear();
-      rank_cell_dofs.clear();
-      rank_cell_all_join.clear();
-      rank_vertex_dofs.clear();
+      release(relevant_solution);
+      release(rank_cells);
+      release(rank_cell_dofs);
+      release(rank_cell_all_join);
+      release(rank_vertex_dofs);
+      layout_body_force.reinit(0);
       ranks_dofs.reset();
       add_detail("degree", degree);
       if (Utilities::MPI::n_mpi_processes(communicator) > 1 &&
@@ -346,9 +347,10 @@ namespace softface
           if (!is_join[rank_cell_dofs[n_cell * k + i]])
             rank_cell_all_join[k] = false;
 
-      // The body force against this layout's shape functions, on the cells
-      // this rank owns, by the scene's rule per material id (the serial
-      // cell_body_force), summed over the ranks.
+      // The body force against this layout's shape functions, by the scene's
+      // rule per material id (the serial cell_body_force): each rank its own
+      // DoFs' whole loads, from every cell at them, so that the sum over the
+      // ranks adds one number to zeros and is the same on every rank.
       if (scene->has_body_force())
         {
           const QGaussSimplex<3> quadrature(3);
@@ -357,23 +359,24 @@ namespace softface
                                 quadrature,
                                 update_values | update_JxW_values);
           layout_body_force.reinit(n);
-          for (const auto &cell : ranks_dofs->active_cell_iterators())
-            if (cell->is_locally_owned())
-              {
-                fe_values.reinit(cell);
-                cell->get_dof_indices(dofs);
-                const Tensor<1, 3> b =
-                  scene->effects.mass_density(cell->material_id()) *
-                  scene->effects.acceleration;
-                for (unsigned int i = 0; i < n_cell; ++i)
+          for (unsigned int k = 0; k < rank_cells.size(); ++k)
+            {
+              const auto &cell = rank_cells[k];
+              fe_values.reinit(cell);
+              const Tensor<1, 3> b =
+                scene->effects.mass_density(cell->material_id()) *
+                scene->effects.acceleration;
+              for (unsigned int i = 0; i < n_cell; ++i)
+                if (const auto dof = rank_cell_dofs[n_cell * k + i];
+                    owned.is_element(dof))
                   {
                     const unsigned int c =
                       fe->system_to_component_index(i).first;
                     for (unsigned int q = 0; q < quadrature.size(); ++q)
-                      layout_body_force[dofs[i]] +=
+                      layout_body_force[dof] +=
                         b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
                   }
-              }
+            }
           sum_over_ranks(layout_body_force);
           body_force = &layout_body_force;
         }
@@ -542,6 +545,14 @@ namespace softface
           displacement[i] = u[at_vertex_dof[i]];
     }
 
+    void
+    ReferenceFEM::do_solve(const Vector<double> &prescribed,
+                           Vector<double>       &displacement)
+    {
+      has_solution = false;
+      NonlinearElasticity::do_solve(prescribed, displacement);
+    }
+
     const Vector<double> *
     ReferenceFEM::guess_in_model_numbering(const Vector<double> *guess,
                                            Vector<double> &translated) const
@@ -550,7 +561,8 @@ namespace softface
       // is its own DoFHandler's (the scene's may be renumbered) or, on the
       // ranks, the layout's. Quadratic ones have DoFs between the vertices:
       // the guess's size tells Newton it is not theirs.
-      if (guess == nullptr || degree != 1)
+      if (guess == nullptr || fe->degree != 1 ||
+          guess->size() != scene->n_dofs())
         return guess;
       translated.reinit(is_join.size());
       if (ranks_dofs)
@@ -608,8 +620,9 @@ namespace softface
                 Point<3>                    x;
                 for (unsigned int a = 0; a < 4; ++a)
                   x += weight[a] * cell->vertex(a);
+                // (PointEvaluation clips a point on a face into its cell.)
                 if (x.distance(points[point->second]) >
-                    1e-8 * (1. + cell->diameter()))
+                    1e-6 * (1. + cell->diameter()))
                   misplaced = std::min(misplaced, point->second);
                 for (unsigned int i = 0; i < dofs.size(); ++i)
                   flat[3 * point->second +

@@ -498,7 +498,12 @@ namespace softface
         std::filesystem::path points_file(output.evaluation_points);
         if (points_file.is_relative() && !input_directory.empty())
           points_file = std::filesystem::path(input_directory) / points_file;
-        const auto points = read_points_csv(points_file.string());
+        // Rank 0 reads them (its error is every rank's) and sends them.
+        std::vector<Point<3>> points;
+        on_rank_0(MPI_COMM_WORLD,
+                  [&]() { points = read_points_csv(points_file.string()); });
+        if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
+          points = Utilities::MPI::broadcast(MPI_COMM_WORLD, points);
         try
           {
             // Rank 0 writes the values (and may be the only rank with the

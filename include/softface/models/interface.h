@@ -139,7 +139,8 @@ namespace softface
        * parts of the mesh: the field at @p points, which lie in the scene's
        * active cells @p cells at @p reference_points there, into @p values
        * on every rank; false (on every rank) if the model has no such field.
-       * Collective.
+       * Collective; throws on every rank if a point's reference coordinates
+       * do not map to it in the ranks' cell of that number.
        */
       virtual bool
       displacement_field_at(const std::vector<Point<3>>     &points,
@@ -196,7 +197,8 @@ namespace softface
        * A guess of the answer to the next solve() (a linear model's answer
        * to the same plan), referenced until then; nullptr: none. The
        * nonlinear models start their first load step from it when it goes
-       * to the full load; the others ignore it.
+       * to the full load (the quadratic reference at degree 1 only: at
+       * degree 2 it has DoFs between the vertices); the others ignore it.
        */
       void
       set_initial_guess(const Vector<double> *guess);

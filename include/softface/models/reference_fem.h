@@ -43,11 +43,11 @@ namespace softface
       void
       parse_parameters(ParameterHandler &prm) override;
 
-      /// The polynomial degree in code (tests).
       /// Tissues per cell and body forces.
       unsigned int
       honoured_effects() const override;
 
+      /// The polynomial degree in code (tests).
       void
       set_degree(const unsigned int degree);
 
@@ -85,13 +85,17 @@ namespace softface
       const Vector<double> *
       guess_in_model_numbering(const Vector<double> *guess,
                                Vector<double>       &translated) const override;
+      /// NonlinearElasticity's, with has_solution false until it succeeds.
+      void
+      do_solve(const Vector<double> &prescribed,
+               Vector<double>       &displacement) override;
 
     private:
       unsigned int degree = 2;
 
       std::unique_ptr<FESystem<3>> fe;
       std::vector<Lame>            tissue_lame;
-      /// Whether a solve() has ended, on every rank alike.
+      /// Whether the last solve() succeeded, on every rank alike.
       bool           has_solution = false;
       Vector<double> layout_body_force;
 
