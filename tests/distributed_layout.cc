@@ -491,26 +491,9 @@ SOFTFACE_TEST(distributed_layout)
       }
   }
 
-  // Segments that share vertices, as a patient's cuts leave them: the cube's
-  // upper half is a third segment, and its vertices on the held faces and at
-  // the inner bone touch two segments' bone and are left free. A fourth
-  // segment takes boundary id 0, which no face of the cube has but the faces
-  // at the edge of a rank's part do on that rank (a contact-only segment may
-  // have no join point).
+  // Segments that share vertices (make_cube_with_shared_join_points()).
   Scene shared;
-  {
-    Mesh::CubeParameters parameters;
-    parameters.target_n_tetrahedra = 3000;
-    parameters.upper_material_id   = 7;
-    Mesh::generate_cube(parameters, shared.triangulation);
-    shared.mesh_description = "generated cube";
-    shared.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
-                               {"bone", {Mesh::cube_inner_id}, {}, {}},
-                               {"upper half", {7}, {}, {}},
-                               {"boundary id 0", {}, {0}, {}, true}};
-    shared.resolve_shared_join_points = true;
-    shared.setup();
-  }
+  make_cube_with_shared_join_points(shared, 3000);
   check_layout("generated cube, segments sharing vertices, metis",
                shared,
                Partitioner::metis,

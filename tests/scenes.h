@@ -86,6 +86,29 @@ namespace softface_tests
     scene.setup();
   }
 
+  /// Segments that share vertices, as a patient's cuts leave them: the
+  /// cube's upper half is a third segment, and its vertices on the held
+  /// faces and at the inner bone touch two segments' bone and are left free.
+  /// A fourth segment takes boundary id 0, which no face of the cube has but
+  /// the faces at the edge of a rank's part do on that rank (a contact-only
+  /// segment may have no join point).
+  inline void
+  make_cube_with_shared_join_points(Scene             &scene,
+                                    const unsigned int target_n_tetrahedra)
+  {
+    Mesh::CubeParameters parameters;
+    parameters.target_n_tetrahedra = target_n_tetrahedra;
+    parameters.upper_material_id   = 7;
+    Mesh::generate_cube(parameters, scene.triangulation);
+    scene.mesh_description = "generated cube";
+    scene.segments         = {{"fixed", {}, {Mesh::cube_outer_face}, {}},
+                              {"bone", {Mesh::cube_inner_id}, {}, {}},
+                              {"upper half", {7}, {}, {}},
+                              {"boundary id 0", {}, {0}, {}, true}};
+    scene.resolve_shared_join_points = true;
+    scene.setup();
+  }
+
   /// The seed's planning: the inner cube moves by @p translation, rotated by
   /// @p angle degrees about z through the cube's centre.
   inline Vector<double>
