@@ -32,6 +32,58 @@ namespace softface
       {
         return {{1. - xi[0] - xi[1] - xi[2], xi[0], xi[1], xi[2]}};
       }
+
+      // The join rules of a cell beyond its vertices' own DoFs, serially and
+      // on the ranks: every DoF of a segment's cell, of a segment's boundary
+      // face, and of a cell whose four vertices are join points of two or
+      // more segments (@p vertex_join(a), @p vertex_segment(a) of its
+      // vertex a). Such a cell (across the kerf of an osteotomy, between the
+      // teeth) is carried by the bones whole, as on the P1 layout: its edge
+      // and face DoFs follow the vertices too. Otherwise it keeps free
+      // mid-edge DoFs but no freedom to avoid the shape the bones' relative
+      // motion forces on it, and the solve stops where the planning crushes
+      // it, which the P1 models pass. A cell on one segment only moves with
+      // it rigidly and keeps its free DoFs.
+      template <typename Segments,
+                typename VertexJoin,
+                typename VertexSegment,
+                typename Mark>
+      void
+      mark_cell_join_dofs(const DoFHandler<3>::active_cell_iterator  &cell,
+                          const std::vector<types::global_dof_index> &dofs,
+                          const Segments                             &segments,
+                          const VertexJoin    &vertex_join,
+                          const VertexSegment &vertex_segment,
+                          const Mark          &mark)
+      {
+        bool bone_cell = false;
+        for (const auto &segment : segments)
+          bone_cell |= segment.material_ids.count(cell->material_id()) > 0;
+        std::set<unsigned int> segments_of_vertices;
+        bool                   vertices_join = true;
+        for (const unsigned int a : cell->vertex_indices())
+          {
+            vertices_join &= vertex_join(a);
+            segments_of_vertices.insert(vertex_segment(a));
+          }
+        if (bone_cell || (vertices_join && segments_of_vertices.size() >= 2))
+          {
+            for (const auto i : dofs)
+              mark(i);
+            return;
+          }
+        std::vector<types::global_dof_index> face_dofs;
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            for (const auto &segment : segments)
+              if (segment.boundary_ids.count(cell->face(f)->boundary_id()))
+                {
+                  face_dofs.resize(cell->get_fe().n_dofs_per_face(f));
+                  cell->face(f)->get_dof_indices(face_dofs);
+                  for (const auto i : face_dofs)
+                    mark(i);
+                }
+      }
     } // namespace
 
     ReferenceFEM::ReferenceFEM()
@@ -105,9 +157,8 @@ namespace softface
       dof_handler->distribute_dofs(*fe);
       const unsigned int n = dof_handler->n_dofs();
 
-      // Join DoFs: every DoF of a segment's cell and of its boundary faces,
-      // and the DoFs at join vertices. The support points serve ML's
-      // rigid-body modes.
+      // Join DoFs: the DoFs at join vertices and mark_cell_join_dofs()'s.
+      // The support points serve ML's rigid-body modes.
       const auto        &unit_points = fe->get_unit_support_points();
       const unsigned int n_cell      = fe->n_dofs_per_cell();
       is_join.assign(n, false);
@@ -115,13 +166,10 @@ namespace softface
                            numbers::invalid_dof_index);
       dof_points.resize(n);
       dof_component.resize(n);
-      std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
+      std::vector<types::global_dof_index> dofs(n_cell);
       for (const auto &cell : dof_handler->active_cell_iterators())
         {
           cell->get_dof_indices(dofs);
-          bool bone_cell = false;
-          for (const auto &segment : scene->segments)
-            bone_cell |= segment.material_ids.count(cell->material_id()) > 0;
           for (unsigned int i = 0; i < n_cell; ++i)
             {
               const unsigned int c  = fe->system_to_component_index(i).first;
@@ -142,44 +190,20 @@ namespace softface
                 }
               dof_points[dofs[i]]    = x;
               dof_component[dofs[i]] = c;
-              if (bone_cell)
-                is_join[dofs[i]] = true;
             }
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary())
-              for (const auto &segment : scene->segments)
-                if (segment.boundary_ids.count(cell->face(f)->boundary_id()))
-                  {
-                    face_dofs.resize(fe->n_dofs_per_face(f));
-                    cell->face(f)->get_dof_indices(face_dofs);
-                    for (const auto i : face_dofs)
-                      is_join[i] = true;
-                  }
-        }
-
-      // A cell whose four vertices are join points of two or more segments
-      // (across the kerf of an osteotomy, between the teeth) is carried by
-      // the bones whole, as on the P1 layout: its edge and face DoFs follow
-      // the vertices too. Otherwise it keeps free mid-edge DoFs but no
-      // freedom to avoid the shape the bones' relative motion forces on it,
-      // and the solve stops where the planning crushes it, which the P1
-      // models pass. A cell on one segment only moves with it rigidly and
-      // keeps its free DoFs.
-      for (const auto &cell : dof_handler->active_cell_iterators())
-        {
-          std::set<unsigned int> segments_of_vertices;
-          bool                   vertices_join = true;
-          for (const unsigned int a : cell->vertex_indices())
-            {
-              const unsigned int v = cell->vertex_index(a);
-              vertices_join &= scene->join_dofs()[scene->vertex_dofs()[v][0]];
-              segments_of_vertices.insert(scene->vertex_segment()[v]);
-            }
-          if (!vertices_join || segments_of_vertices.size() < 2)
-            continue;
-          cell->get_dof_indices(dofs);
-          for (const auto i : dofs)
-            is_join[i] = true;
+          mark_cell_join_dofs(
+            cell,
+            dofs,
+            scene->segments,
+            [&](const unsigned int a) {
+              return bool(
+                scene->join_dofs()[scene->vertex_dofs()[cell->vertex_index(a)]
+                                                       [0]]);
+            },
+            [&](const unsigned int a) {
+              return scene->vertex_segment()[cell->vertex_index(a)];
+            },
+            [&](const types::global_dof_index i) { is_join[i] = true; });
         }
 
       all_join_cell.assign(scene->triangulation.n_active_cells(), false);
@@ -239,7 +263,7 @@ namespace softface
       std::vector<unsigned char> join(n, 0);
       dof_points.assign(n, Point<3>());
       dof_component.assign(n, 0);
-      std::vector<types::global_dof_index> dofs(n_cell), face_dofs;
+      std::vector<types::global_dof_index> dofs(n_cell);
       std::vector<bool> owned_vertex_dof_seen(owned.n_elements(), false);
       for (const auto &cell : ranks_dofs->active_cell_iterators())
         if (!cell->is_artificial())
@@ -250,9 +274,6 @@ namespace softface
               cell->index(),
               &layout.dof_handler);
             cell->get_dof_indices(dofs);
-            bool bone_cell = false;
-            for (const auto &segment : scene->segments)
-              bone_cell |= segment.material_ids.count(cell->material_id()) > 0;
             bool at_own_dof = false;
             for (unsigned int i = 0; i < n_cell; ++i)
               {
@@ -281,33 +302,20 @@ namespace softface
                   }
                 dof_points[dofs[i]]    = x;
                 dof_component[dofs[i]] = c;
-                if (bone_cell)
-                  join[dofs[i]] = 1;
                 at_own_dof |= owned.is_element(dofs[i]);
               }
-            for (const unsigned int f : cell->face_indices())
-              if (cell->face(f)->at_boundary())
-                for (const auto &segment : scene->segments)
-                  if (segment.boundary_ids.count(cell->face(f)->boundary_id()))
-                    {
-                      face_dofs.resize(fe->n_dofs_per_face(f));
-                      cell->face(f)->get_dof_indices(face_dofs);
-                      for (const auto i : face_dofs)
-                        join[i] = 1;
-                    }
-            // Carried whole by two or more segments (setup_serial()).
-            std::set<unsigned int> segments_of_vertices;
-            bool                   vertices_join = true;
-            for (const unsigned int a : cell->vertex_indices())
-              {
-                const auto vertex_dof = p1_cell->vertex_dof_index(a, 0);
-                vertices_join &= layout.is_join_dof(vertex_dof);
-                segments_of_vertices.insert(
-                  layout.join_segment_of_dof(vertex_dof));
-              }
-            if (vertices_join && segments_of_vertices.size() >= 2)
-              for (const auto i : dofs)
-                join[i] = 1;
+            mark_cell_join_dofs(
+              cell,
+              dofs,
+              scene->segments,
+              [&](const unsigned int a) {
+                return layout.is_join_dof(p1_cell->vertex_dof_index(a, 0));
+              },
+              [&](const unsigned int a) {
+                return layout.join_segment_of_dof(
+                  p1_cell->vertex_dof_index(a, 0));
+              },
+              [&](const types::global_dof_index i) { join[i] = 1; });
             if (!at_own_dof)
               continue;
             rank_cells.push_back(cell);
