@@ -100,10 +100,17 @@ main(int argc, char **argv)
       if (several && rank != 0)
         std::this_thread::sleep_for(std::chrono::seconds(5));
       std::cout.flush();
-      std::cerr << "softface: error: " << softface::error_message(e)
-                << std::endl;
+      // One write: mpirun forwards a rank's stderr as it reads it, and its
+      // own banner about the abort may otherwise land inside the line.
+      const std::string line =
+        "softface: error: " + softface::error_message(e) + "\n";
+      std::cerr << line << std::flush;
       if (several)
-        MPI_Abort(MPI_COMM_WORLD, 1);
+        {
+          // Let mpirun read the line before it hears of the abort.
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
+          MPI_Abort(MPI_COMM_WORLD, 1);
+        }
       return 1;
     }
 }

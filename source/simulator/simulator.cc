@@ -701,7 +701,7 @@ namespace softface
           if (where.empty())
             return;
           out << where << "failed" << std::endl;
-          err << "softface: error: " << run.error << std::endl;
+          err << "softface: error: " + run.error + '\n' << std::flush;
         };
         // The answer of an earlier model to plan p that @p wanted accepts
         // (every earlier model has a run per plan, in order), or nullptr.
