@@ -11,7 +11,10 @@
 // Then the quadratic reference alone on a coarser gmsh mesh: its DoFs live on
 // the ranks' parts, so its members hold no cells either; its vertex values
 // and its field at the evaluation points (each point evaluated by the rank
-// that owns its cell) equal the serial reference's. On 3 and 4 ranks, last:
+// that owns its cell) equal the serial reference's. Then the mass tensor
+// and mass spring models alone on that mesh: their members hold no cells
+// (rank 0 sends the tetrahedra), and their answers and sweeps are the
+// serial models'. On 3 and 4 ranks, last:
 // a root that reads another mesh (another file of the same name on its node)
 // stops every rank with one message.
 
@@ -37,15 +40,6 @@ using namespace softface_tests;
 
 namespace
 {
-  // On how many ranks @p values differ from rank 0's (exactly).
-  template <typename T>
-  int
-  ranks_unlike_rank_0(const std::vector<T> &values, const MPI_Comm comm)
-  {
-    return Utilities::MPI::sum(int(values !=
-                                   Utilities::MPI::broadcast(comm, values, 0)),
-                               comm);
-  }
   // The values x,y,z,ux,uy,uz of an evaluation_*.csv (rows of six).
   std::vector<double>
   read_evaluation_csv(const std::string &file)
@@ -64,6 +58,68 @@ namespace
     return values;
   }
 
+  // Run @p run on every rank of @p comm: it says so, and its answer is
+  // rank 0's on every rank.
+  void
+  check_ran_on_the_ranks(const std::string      &what,
+                         const Report::ModelRun &run,
+                         const MPI_Comm          comm)
+  {
+    check_equal(what + "ran on the ranks",
+                ran_on_the_ranks(run, Utilities::MPI::n_mpi_processes(comm)),
+                true);
+    check_equal(
+      what + "ranks unlike rank 0: answer",
+      ranks_unlike_rank_0(std::vector<double>(run.displacement.begin(),
+                                              run.displacement.end()),
+                          comm),
+      0);
+  }
+
+  // Runs mpi_run_without_cells.prm on the off-centre case's coarse gmsh
+  // mesh (5092 cells) with @p settings, in groups of two, and checks what
+  // every such run must show (under @p label): every rank ends well, only
+  // the groups' roots hold cells, and rank 0 says so.
+  void
+  run_on_coarse_mesh(const MPI_Comm     comm,
+                     const std::string &name,
+                     const std::string &folder,
+                     const std::string &settings,
+                     const std::string &label,
+                     Simulator         &simulator)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const std::string  file =
+      rank_scene(comm,
+                 "mpi_run_without_cells.prm",
+                 name,
+                 folder,
+                 "subsection Scene\n  set Mesh file = " +
+                   source_file("data/offcentre_coarse/mesh.msh") + "\nend\n" +
+                   settings);
+    std::ostringstream log, errors;
+    const int          rc = simulator.run(file, log, errors);
+    deallog << label << ":" << std::endl;
+    check_equal("  largest exit code over the ranks",
+                Utilities::MPI::max(rc, comm),
+                0);
+    const Scene &scene = simulator.scene();
+    check_equal("  ranks that hold the scene's cells",
+                Utilities::MPI::sum(int(scene.has_cells()), comm),
+                (n_ranks + 1) / 2);
+    check_equal("  ranks with triangulation cells but no cells said",
+                Utilities::MPI::sum(int(!scene.has_cells() &&
+                                        scene.triangulation.n_cells() > 0),
+                                    comm),
+                0);
+    check_equal("  rank 0 says the members hold no cells",
+                Utilities::MPI::this_mpi_process(comm) != 0 ||
+                  log.str().find("the groups' members hold none of the "
+                                 "scene's cells") != std::string::npos,
+                true);
+    check_equal("  cells (rank 0)", scene.n_cells(), 5092);
+  }
+
   // The quadratic reference alone, in groups of two, on the off-centre
   // case's coarse gmsh mesh (5092 cells).
   void
@@ -75,49 +131,24 @@ namespace
     const std::string  folder  = name + "_output";
     const std::string  points_file =
       source_file("data/points/run_evaluation_points.csv");
-    const std::string file =
-      rank_scene(comm,
-                 "mpi_run_without_cells.prm",
-                 name,
-                 folder,
-                 "subsection Scene\n  set Mesh file = " +
-                   source_file("data/offcentre_coarse/mesh.msh") +
-                   "\nend\nsubsection Output\n  set Evaluation points = " +
-                   points_file +
-                   "\nend\nsubsection Models\n  set Models = reference "
-                   "fem\nend\n");
-    std::ostringstream log, errors;
-    Simulator          simulator;
-    const int          rc = simulator.run(file, log, errors);
-    deallog << "reference fem:" << std::endl;
-    check_equal("  largest exit code over the ranks",
-                Utilities::MPI::max(rc, comm),
-                0);
+    Simulator simulator;
+    run_on_coarse_mesh(comm,
+                       name,
+                       folder,
+                       "subsection Output\n  set Evaluation points = " +
+                         points_file +
+                         "\nend\nsubsection Models\n  set Models = "
+                         "reference fem\nend\n",
+                       "reference fem",
+                       simulator);
     const Scene &scene = simulator.scene();
-    check_equal("  ranks that hold the scene's cells",
-                Utilities::MPI::sum(int(scene.has_cells()), comm),
-                (n_ranks + 1) / 2);
-    check_equal("  rank 0 says the members hold no cells",
-                rank != 0 ||
-                  log.str().find("the groups' members hold none of the "
-                                 "scene's cells") != std::string::npos,
-                true);
-    check_equal("  cells (rank 0)", scene.n_cells(), 5092);
 
     const auto &runs = simulator.runs();
     check_equal("  model runs (two plans)", runs.size(), 2);
     for (unsigned int p = 0; p < runs.size() && p < 2; ++p)
       {
         const std::string what = "  plan " + std::to_string(p + 1) + ": ";
-        check_equal(what + "ran on the ranks",
-                    ran_on_the_ranks(runs[p], n_ranks),
-                    true);
-        check_equal(
-          what + "ranks unlike rank 0: answer",
-          ranks_unlike_rank_0(std::vector<double>(runs[p].displacement.begin(),
-                                                  runs[p].displacement.end()),
-                              comm),
-          0);
+        check_ran_on_the_ranks(what, runs[p], comm);
         if (rank != 0)
           continue;
         // The serial reference on rank 0's scene, and its quadratic field
@@ -180,6 +211,78 @@ namespace
                     quadratic_to_linear / largest,
                     1e-4);
       }
+  }
+
+  // The mass tensor and mass spring models alone, in groups of two, on the
+  // off-centre case's coarse gmsh mesh: the members get the tetrahedra
+  // from rank 0 (PointMesh) and hold no cells.
+  void
+  check_point_models_without_cells(const std::string &stem, const MPI_Comm comm)
+  {
+    const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(comm);
+    const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
+    const std::string  name    = stem + "points_" + std::to_string(rank);
+    const std::string  folder  = name + "_output";
+    // Each plan solved on its own (no response basis), as the serial
+    // models below solve it.
+    Simulator simulator;
+    run_on_coarse_mesh(comm,
+                       name,
+                       folder,
+                       "subsection Planning\n  set Response basis = "
+                       "never\nend\nsubsection Models\n  set Models = mass "
+                       "tensor, mass spring\nend\n",
+                       "mass tensor and mass spring",
+                       simulator);
+    const Scene &scene = simulator.scene();
+
+    const auto &runs = simulator.runs();
+    check_equal("  model runs (two models, two plans)", runs.size(), 4);
+    // The serial models on rank 0's scene, each plan in turn on one model
+    // (the mass spring model starts the second plan from the first's).
+    std::unique_ptr<Models::Interface> serial_model;
+    for (unsigned int r = 0; r < runs.size() && r < 4; ++r)
+      {
+        const std::string model_name = r < 2 ? "mass tensor" : "mass spring";
+        const std::string what =
+          "  " + model_name + ", plan " + std::to_string(r % 2 + 1) + ": ";
+        check_ran_on_the_ranks(what, runs[r], comm);
+        if (rank != 0)
+          continue;
+        if (r % 2 == 0)
+          {
+            serial_model = Models::create(model_name, simulator.parameters());
+            serial_model->set_communicator(MPI_COMM_SELF);
+            serial_model->setup(scene);
+          }
+        Vector<double> serial;
+        serial_model->solve(
+          simulator.plannings().plans[r % 2].planning.prescribed_displacement(
+            scene),
+          serial);
+        // The ranks sweep in the serial order: the serial answer and sweeps.
+        check_below(what + "largest difference to the serial model (mm)",
+                    largest_difference(runs[r].displacement, serial),
+                    1e-12);
+        check_equal(what + "sweeps (or load steps' sweeps) against serial",
+                    runs[r].statistics.iterations,
+                    serial_model->statistics().iterations);
+        check_above(what + "largest |u_i| (mm)",
+                    runs[r].displacement.linfty_norm(),
+                    3.);
+      }
+    MPI_Barrier(comm);
+    if (rank == 0)
+      check_fields_against_serial(folder,
+                                  scene,
+                                  runs,
+                                  n_ranks,
+                                  {"displacement_mass_tensor_planning",
+                                   "displacement_mass_tensor_back",
+                                   "displacement_mass_spring_planning",
+                                   "displacement_mass_spring_back",
+                                   "join_point",
+                                   "segment_id"});
   }
 
   // Rank 2, the second group's root, reads the coarse mesh where rank 0
@@ -426,6 +529,7 @@ SOFTFACE_TEST(mpi_run_without_cells)
                                    "segment_id"});
     }
   check_reference_without_cells(stem, comm);
+  check_point_models_without_cells(stem, comm);
   if (n_ranks >= 3)
     check_roots_with_different_meshes(stem, comm);
 }

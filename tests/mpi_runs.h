@@ -53,6 +53,17 @@ namespace softface_tests
     return name + ".prm";
   }
 
+  /// On how many ranks @p values differ from rank 0's (exactly).
+  /// Collective.
+  template <typename T>
+  int
+  ranks_unlike_rank_0(const std::vector<T> &values, const MPI_Comm comm)
+  {
+    return Utilities::MPI::sum(int(values !=
+                                   Utilities::MPI::broadcast(comm, values, 0)),
+                               comm);
+  }
+
   /// Does @p run say (its "MPI ranks" figure) that it ran on @p n_ranks?
   inline bool
   ran_on_the_ranks(const Report::ModelRun &run, const unsigned int n_ranks)

@@ -4,9 +4,12 @@ of two (issue 20: a group's member holds none of the scene's cells): peak memory
 and the smallest rank, the phases, the whole process. Serial once, then the two groupings
 interleaved REPEAT times (memory does not move from run to run; the times do: medians). Fails if
 an answer differs from the serial one by more than 1e-8 relative.
+With --point-models: the mass tensor and mass spring models instead (their members get the
+tetrahedra from rank 0), compared with the serial answers to 1e-12 (the ranks sweep in the serial
+order).
 
-usage: groups.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick]
-Writes RESULTS/scaling_groups.md, .csv, .png.
+usage: groups.py SOFTFACE MPIEXEC WORK RESULTS "COMMAND" [--quick] [--point-models]
+Writes RESULTS/scaling_groups.md, .csv, .png (scaling_groups_points.* with --point-models).
 """
 import csv, os, re, statistics, sys
 
@@ -19,7 +22,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 softface, mpiexec, work, results, command = sys.argv[1:6]
 quick = "--quick" in sys.argv[6:]
-N, REPEAT = (30000, 1) if quick else (2000000, 3)
+points = "--point-models" in sys.argv[6:]
+# Memory does not move from run to run: the point models' longer runs once.
+N, REPEAT = (30000, 1) if quick else (2000000, 1 if points else 3)
+MODELS = ["mass tensor", "mass spring"] if points else ["linear fem"]
+WHAT = "the mass tensor and mass spring models" if points else "linear FEM (`cg amg`)"
+STEM = "scaling_groups_points" if points else "scaling_groups"
+TOLERANCE = 1e-12 if points else 1e-8
 os.makedirs(work, exist_ok=True)
 os.makedirs(results, exist_ok=True)
 CASES = [("serial", 1, 1), ("2 ranks, groups of 1", 2, 1), ("2 ranks, groups of 2", 2, 2)]
@@ -29,7 +38,7 @@ def run(label, ranks, group, k):
     tag = f"{label.replace(' ', '_').replace(',', '')}_{k}"
     out_dir = os.path.join(work, tag)
     prm = os.path.join(work, tag + ".prm")
-    scene = softface_run.cube_scene(N, ["linear fem"], out_dir, nodal=True)
+    scene = softface_run.cube_scene(N, MODELS, out_dir, nodal=True)
     scene = scene.replace("  set Threads = 1\n", f"  set Threads = 1\n  set Mesh group size = {group}\n"
                           "  subsection linear fem\n    set Solver = cg amg\n  end\n")
     with open(prm, "w") as f:
@@ -39,12 +48,16 @@ def run(label, ranks, group, k):
     m = re.search(r"mesh generated cube: (\d+) tetrahedra, (\d+) vertices", out)
     row["tets"], row["vertices"] = int(m.group(1)), int(m.group(2))
     row.update(softface_run.phases(out, "linear fem"))
+    for model in MODELS:
+        row[model + " setup"], row[model + " solve"], _ = softface_run.table_row(out, model)
     row["process s"], row["peak MB"] = softface_run.process_figures(out)
     smallest = re.search(r"the smallest (\d+) MB", out)
     row["smallest peak MB"] = float(smallest.group(1)) if smallest else row["peak MB"]
     row["holds none"] = "members hold none of the scene's cells" in out
-    row["u"] = np.loadtxt(os.path.join(out_dir, "displacements_linear_fem.csv"),
-                          delimiter=",", skiprows=1)[:, 3:6]
+    row["u"] = np.concatenate([np.loadtxt(os.path.join(out_dir, "displacements_"
+                                              + model.replace(" ", "_") + ".csv"),
+                                              delimiter=",", skiprows=1)[:, 3:6]
+                               for model in MODELS])
     return row
 
 
@@ -57,22 +70,27 @@ for k in range(REPEAT):
         r = run(label, ranks, group, k)
         rows[label].append(r)
         print(f"{label} ({k + 1}/{REPEAT}): peak {r['peak MB']:.0f} / {r['smallest peak MB']:.0f} MB "
-              f"(largest / smallest rank), partition {r.get('partition', 0):.2f} s, "
+              f"(largest / smallest rank), "
+              + ("" if points else f"partition {r.get('partition', 0):.2f} s, ") +
               f"{r['process s']:.1f} s", flush=True)
 u0 = rows["serial"][0]["u"]
 difference = {}
 for label, _, _ in CASES[1:]:
     difference[label] = max(np.abs(r["u"] - u0).max() / np.abs(u0).max() for r in rows[label])
-    if difference[label] > 1e-8:
+    if difference[label] > TOLERANCE:
         sys.exit(f"group scaling: {label} differs from the serial answer by {difference[label]:.2e}")
 if not all(r["holds none"] for r in rows["2 ranks, groups of 2"]):
     sys.exit("group scaling: with groups of 2 the members held the scene's cells")
 
 FIGURES = [("peak memory, largest rank MB", "peak MB"),
-           ("peak memory, smallest rank MB", "smallest peak MB"),
-           ("partition s", "partition"), ("assemble s", "assemble"),
-           ("preconditioner s", "preconditioner"), ("solve s", "solve"),
-           ("whole process s", "process s")]
+           ("peak memory, smallest rank MB", "smallest peak MB")]
+if points:
+    FIGURES += [(f"{model} {phase} s", f"{model} {phase}")
+                for model in MODELS for phase in ("setup", "solve")]
+else:
+    FIGURES += [("partition s", "partition"), ("assemble s", "assemble"),
+                ("preconditioner s", "preconditioner"), ("solve s", "solve")]
+FIGURES += [("whole process s", "process s")]
 
 
 def median(label, key):
@@ -85,7 +103,7 @@ def cell(label, key):
 
 
 csv_rows = [[label] + [cell(c, key) for c, _, _ in CASES] for label, key in FIGURES]
-with open(os.path.join(results, "scaling_groups.csv"), "w", newline="") as f:
+with open(os.path.join(results, STEM + ".csv"), "w", newline="") as f:
     w = csv.writer(f)
     w.writerow(["figure"] + [c for c, _, _ in CASES])
     w.writerows(csv_rows)
@@ -96,22 +114,26 @@ ax.bar(x - 0.2, [median(c, "peak MB") for c, _, _ in CASES], 0.4, label="largest
 ax.bar(x + 0.2, [median(c, "smallest peak MB") for c, _, _ in CASES], 0.4, label="smallest rank")
 ax.set_xticks(x, [c for c, _, _ in CASES], fontsize=8)
 ax.set_ylabel("peak memory per rank, MB")
-ax.set_title(f"linear FEM (cg amg), {rows['serial'][0]['tets']} tetrahedra")
+ax.set_title(f"{WHAT.replace('`', '')}, {rows['serial'][0]['tets']} tetrahedra", fontsize=9)
 ax.legend(fontsize=8)
 fig.tight_layout()
-fig.savefig(os.path.join(results, "scaling_groups.png"), dpi=110)
+fig.savefig(os.path.join(results, STEM + ".png"), dpi=110)
 
 commit = softface_run.commit()
 s, g1, g2 = (rows[c][0] for c, _, _ in CASES)
-md = ["# Groups of MPI ranks whose members hold no scene cells", "",
+md = ["# Groups of MPI ranks whose members hold no scene cells"
+      + (": the point models" if points else ""), "",
       f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
       f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), "
-      f"{s['tets']} tetrahedra, {s['vertices']} vertices, linear FEM (`cg amg`) alone, one "
+      f"{s['tets']} tetrahedra, {s['vertices']} vertices, {WHAT} alone, one "
       "thread per rank; serially once, then `mpiexec -n 2` with `Models/Mesh group size` 1 and 2 "
       f"interleaved, {REPEAT} times (medians). With groups of 2 rank 0 reads or makes the mesh "
       "and describes rank 1's part; rank 1 holds its part and the arrays per vertex and DoF rank 0 "
-      "sent it, no cell of the scene. Peak memory is each process's VmHWM as softface reports it. "
-      "CSV: [scaling_groups.csv](scaling_groups.csv).", "",
+      "sent it, no cell of the scene"
+      + (" (the point models: the tetrahedra and their tissues, 20 bytes a cell, in their "
+         "`PointMesh`)" if points else "")
+      + ". Peak memory is each process's VmHWM as softface reports it. "
+      f"CSV: [{STEM}.csv]({STEM}.csv).", "",
       "| | " + " | ".join(c for c, _, _ in CASES) + " |", "|---|---|---|---|"]
 for row in csv_rows:
     md.append("| " + " | ".join(row) + " |")
@@ -122,7 +144,7 @@ md += ["",
        f"of the serial run's and {median('2 ranks, groups of 2', 'smallest peak MB') / median('2 ranks, groups of 1', 'smallest peak MB'):.3f} "
        "of a rank's without groups; the root's stays near a rank's without groups, since it holds the "
        "scene and its own part.", "",
-       "![memory](scaling_groups.png)", ""]
-with open(os.path.join(results, "scaling_groups.md"), "w") as f:
+       f"![memory]({STEM}.png)", ""]
+with open(os.path.join(results, STEM + ".md"), "w") as f:
     f.write("\n".join(md) + "\n")
-print(f"group scaling: wrote {os.path.join(results, 'scaling_groups.md')}")
+print(f"group scaling: wrote {os.path.join(results, STEM + '.md')}")

@@ -4,9 +4,10 @@
 # size' 1 (every rank holds the scene) and 2 (rank 1 holds its part only), the two interleaved,
 # 3 repetitions, one thread per rank; peak memory of the largest and the smallest rank, the
 # phases and the whole process; checks that the answers agree and writes
-# doc/results/scaling_groups.{md,csv,png} (about 5 minutes).
+# doc/results/scaling_groups.{md,csv,png} (about 5 minutes). With --point-models the mass
+# tensor and mass spring models instead (doc/results/scaling_groups_points.*).
 #
-#   benchmarks/scaling/groups.sh [--quick]
+#   benchmarks/scaling/groups.sh [--quick] [--point-models]
 #   (--quick: 30k tetrahedra once, results in the work dir)
 #
 # Env: SOFTFACE (default build/softface), SCALING_WORK (default /tmp/softface-scaling). Needs
@@ -23,7 +24,8 @@ options=()
 for option in "$@"; do
   case "$option" in
     --quick) options+=(--quick); results=$work/quick-results ;;
-    *) echo "group scaling: unknown option '$option' (use --quick)"; exit 2 ;;
+    --point-models) options+=(--point-models) ;;
+    *) echo "group scaling: unknown option '$option' (use --quick, --point-models)"; exit 2 ;;
   esac
 done
 mkdir -p "$work" "$results"

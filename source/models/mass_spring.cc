@@ -91,6 +91,12 @@ namespace softface
       prevent_inversion = prevent;
     }
 
+    bool
+    MassSpring::runs_without_scene_cells() const
+    {
+      return true;
+    }
+
     unsigned int
     MassSpring::honoured_effects() const
     {
@@ -103,9 +109,9 @@ namespace softface
     {
       scene = &scene_in;
       last_position.clear();
-      auto timed           = phase("springs");
-      mesh                 = std::make_unique<PointMesh>(*scene, "mass spring");
-      const unsigned int n = mesh->n_points();
+      auto timed = phase("springs");
+      mesh = std::make_unique<PointMesh>(*scene, "mass spring", communicator);
+      const unsigned int n         = mesh->n_points();
       const auto        &row_start = mesh->row_start;
       const auto        &neighbour = mesh->neighbour;
 
@@ -118,13 +124,15 @@ namespace softface
       for (unsigned int t = 0; t < scene->n_tissues(); ++t)
         weight.push_back(scene->tissue(t).youngs_modulus() / E);
       std::vector<double> edge_volume(neighbour.size(), 0.);
-      unsigned int        c = 0;
-      for (const auto &cell : scene->triangulation.active_cell_iterators())
+      for (unsigned int c = 0; c < mesh->tetrahedra.size(); ++c)
         {
+          const auto  &p = mesh->tetrahedra[c];
           const double volume =
-            weight[scene->tissue_of_cell(c)] *
-            Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
-          const auto &p = mesh->tetrahedra[c++];
+            weight[mesh->tissue[c]] *
+            Tetrahedron::signed_volume({{mesh->position[p[0]],
+                                         mesh->position[p[1]],
+                                         mesh->position[p[2]],
+                                         mesh->position[p[3]]}});
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = a + 1; b < 4; ++b)
               edge_volume[mesh->edge_index(std::min(p[a], p[b]),

@@ -7,6 +7,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
+#include <deal.II/lac/dynamic_sparsity_pattern.h>
+
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/release.h>
@@ -227,6 +229,12 @@ namespace softface
       return !has_unilateral_contact(scene);
     }
 
+    bool
+    MassTensor::runs_without_scene_cells() const
+    {
+      return true;
+    }
+
     std::string
     MassTensor::converged_equivalent() const
     {
@@ -244,8 +252,8 @@ namespace softface
       unsigned int n = 0;
       {
         const auto timed = phase("tensors");
-        mesh             = std::make_unique<PointMesh>(*scene, "mass tensor");
-        n                = mesh->n_points();
+        mesh = std::make_unique<PointMesh>(*scene, "mass tensor", communicator);
+        n    = mesh->n_points();
         // A constrained update also moves its partner and reads the
         // partner's neighbours, further than a block's colour keeps apart:
         // such scenes sweep in plain order on one thread.
@@ -333,19 +341,18 @@ namespace softface
       const auto held = [&](const unsigned int j) {
         return j >= first && j < end;
       };
-      unsigned int c = 0;
-      for (const auto &cell : scene->triangulation.active_cell_iterators())
+      for (unsigned int c = 0; c < mesh->tetrahedra.size(); ++c)
         {
           const auto &p = mesh->tetrahedra[c];
           if (!held(p[0]) && !held(p[1]) && !held(p[2]) && !held(p[3]))
-            {
-              ++c;
-              continue;
-            }
+            continue;
           const Elasticity::CellMatrix K =
             Elasticity::p1_stiffness(Tetrahedron::geometry(
-                                       Tetrahedron::vertices(cell)),
-                                     A[scene->tissue_of_cell(c++)]);
+                                       {{mesh->position[p[0]],
+                                         mesh->position[p[1]],
+                                         mesh->position[p[2]],
+                                         mesh->position[p[3]]}}),
+                                     A[mesh->tissue[c]]);
           for (unsigned int a = 0; a < 4; ++a)
             if (held(p[a]))
               for (unsigned int b = 0; b < 4; ++b)
@@ -382,7 +389,25 @@ namespace softface
         {
           // The tensors are the blocks of one sparse matrix on the shared
           // layout; with the join DoFs eliminated it is factorised once.
-          ConstrainedSystem::make_sparsity_pattern(*scene, converged_sparsity);
+          // (A rank without the scene's cells: the same pattern, from the
+          // points' neighbours.)
+          if (scene->has_cells())
+            ConstrainedSystem::make_sparsity_pattern(*scene,
+                                                     converged_sparsity);
+          else
+            {
+              DynamicSparsityPattern dsp(3 * n);
+              for (unsigned int j = 0; j < n; ++j)
+                for (unsigned int r = 0; r < 3; ++r)
+                  for (unsigned int s = 0; s < 3; ++s)
+                    {
+                      dsp.add(3 * j + r, 3 * j + s);
+                      for (unsigned int i = row_start[j]; i < row_start[j + 1];
+                           ++i)
+                        dsp.add(3 * j + r, 3 * neighbour[i] + s);
+                    }
+              converged_sparsity.copy_from(dsp);
+            }
           converged_matrix.reinit(converged_sparsity);
           for (unsigned int j = 0; j < n; ++j)
             for (unsigned int r = 0; r < 3; ++r)

@@ -5,6 +5,7 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
+#include <softface/core/sub_communicator.h>
 #include <softface/models/point_mesh.h>
 
 #include <algorithm>
@@ -13,12 +14,14 @@ namespace softface
 {
   namespace Models
   {
-    PointMesh::PointMesh(const Scene &scene, const std::string &model)
+    PointMesh::PointMesh(const Scene       &scene,
+                         const std::string &model,
+                         const MPI_Comm     communicator)
     {
       if (!scene.dofs_are_point_blocks())
         throw Error(model + ": the DoFs of a vertex are not a block "
                             "3p, 3p+1, 3p+2 (renumbered DoFs?).");
-      const unsigned int n = scene.dof_handler.n_dofs() / 3;
+      const unsigned int n = scene.n_dofs() / 3;
 
       position.assign(n, Point<3>());
       is_free.assign(n, false);
@@ -27,18 +30,54 @@ namespace softface
           const auto &dofs = scene.vertex_dofs()[v];
           if (dofs[0] == numbers::invalid_dof_index)
             continue;
-          position[dofs[0] / 3] = scene.triangulation.get_vertices()[v];
+          position[dofs[0] / 3] = scene.vertices()[v];
           is_free[dofs[0] / 3]  = !scene.join_dofs()[dofs[0]];
         }
 
       tetrahedra.clear();
-      tetrahedra.reserve(scene.triangulation.n_active_cells());
-      for (const auto &cell : scene.triangulation.active_cell_iterators())
+      tissue.clear();
+      if (scene.has_cells())
         {
-          std::array<unsigned int, 4> p;
-          for (unsigned int a = 0; a < 4; ++a)
-            p[a] = scene.vertex_dofs()[cell->vertex_index(a)][0] / 3;
-          tetrahedra.push_back(p);
+          tetrahedra.reserve(scene.triangulation.n_active_cells());
+          tissue.reserve(scene.triangulation.n_active_cells());
+          for (const auto &cell : scene.triangulation.active_cell_iterators())
+            {
+              std::array<unsigned int, 4> p;
+              for (unsigned int a = 0; a < 4; ++a)
+                p[a] = scene.vertex_dofs()[cell->vertex_index(a)][0] / 3;
+              tetrahedra.push_back(p);
+              tissue.push_back(scene.tissue_of_cell(tissue.size()));
+            }
+        }
+      // Ranks without cells get them from rank 0, which has them.
+      if (Utilities::MPI::max(int(!scene.has_cells()), communicator) != 0)
+        {
+          const bool sends =
+            Utilities::MPI::this_mpi_process(communicator) == 0;
+          AssertThrow(!sends || scene.has_cells(),
+                      ExcMessage("Rank 0 of a point model's ranks holds no "
+                                 "cells to send."));
+          const SubCommunicator receivers(communicator,
+                                          sends || !scene.has_cells());
+          if (receivers.communicator != MPI_COMM_NULL)
+            {
+              if (!sends)
+                {
+                  tetrahedra.resize(scene.n_cells());
+                  tissue.resize(scene.n_cells());
+                }
+              static_assert(sizeof(tetrahedra[0]) == 4 * sizeof(unsigned int),
+                            "tetrahedra are sent as a plain array");
+              Utilities::MPI::broadcast(reinterpret_cast<unsigned int *>(
+                                          tetrahedra.data()),
+                                        4 * tetrahedra.size(),
+                                        0,
+                                        receivers.communicator);
+              Utilities::MPI::broadcast(tissue.data(),
+                                        tissue.size(),
+                                        0,
+                                        receivers.communicator);
+            }
         }
 
       // The tetrahedra of every point (CSR), then each point's neighbours

@@ -55,6 +55,10 @@ namespace softface
       /// Tissues per cell and body forces.
       unsigned int
       honoured_effects() const override;
+      /// True: on several ranks it reads the cells through its PointMesh,
+      /// which rank 0 sends to ranks without them.
+      bool
+      runs_without_scene_cells() const override;
 
       void
       set_stop_threshold(const double threshold_mm);

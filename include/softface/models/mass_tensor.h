@@ -73,6 +73,10 @@ namespace softface
       /// "linear fem": the tensors are the blocks of its stiffness.
       std::string
       converged_equivalent() const override;
+      /// True: on several ranks it reads the cells through its PointMesh,
+      /// which rank 0 sends to ranks without them.
+      bool
+      runs_without_scene_cells() const override;
 
       /// Set the solution scheme in code (tests, benchmarks).
       void

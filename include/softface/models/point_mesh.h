@@ -1,6 +1,7 @@
 #ifndef softface_models_point_mesh_h
 #define softface_models_point_mesh_h
 
+#include <deal.II/base/mpi.h>
 #include <deal.II/base/point.h>
 
 #include <softface/core/scene.h>
@@ -19,11 +20,22 @@ namespace softface
      * DoFs on the shared layout are 3p, 3p+1, 3p+2 (deal.II's numbering of
      * FESystem(FE_SimplexP(1), 3) unless renumbered), so a model's vector of
      * point displacements is a displacement vector on the shared layout.
+     *
+     * It holds all a point model reads of the cells (their points, tissues
+     * and the vertices' positions), so that on several MPI ranks a rank
+     * whose scene holds no cells (Scene::has_cells(), issue 20) runs the
+     * model on the points alone: rank 0 of the model's communicator sends
+     * it the tetrahedra and their tissues (20 bytes a cell, where the
+     * scene's triangulation and DoFs would cost several hundred).
      */
     struct PointMesh
     {
       /// Throws an error naming @p model if the DoFs are not point blocks.
-      PointMesh(const Scene &scene, const std::string &model);
+      /// Collective on @p communicator when some of its ranks hold no cells
+      /// (rank 0 must hold them).
+      PointMesh(const Scene       &scene,
+                const std::string &model,
+                const MPI_Comm     communicator = MPI_COMM_SELF);
 
       unsigned int
       n_points() const;
@@ -38,6 +50,8 @@ namespace softface
 
       /// The points of every tetrahedron, in the order of the mesh's cells.
       std::vector<std::array<unsigned int, 4>> tetrahedra;
+      /// The tissue of every tetrahedron (Scene::tissue_of_cell()).
+      std::vector<unsigned char> tissue;
       /// Reference positions.
       std::vector<Point<3>> position;
       /// False for join points.
