@@ -51,8 +51,10 @@ namespace softface
      * range of blocks (PointExchange), the colours in turn with a ghost
      * exchange after each: the serial sweep, update for update. Every
      * decision of the stop criterion is taken on global figures, so the
-     * ranks' answer, sweeps and stop are the serial ones; each rank still
-     * builds every tensor.
+     * ranks' answer, sweeps and stop are the serial ones. Each rank builds
+     * the tensors of its points' rows only, from its PointMesh, which is
+     * whole on every rank (and sent by rank 0 where a rank holds no
+     * cells).
      */
     class MassTensor : public Interface
     {
