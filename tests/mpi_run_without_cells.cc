@@ -224,14 +224,16 @@ namespace
     const std::string  name    = stem + "points_" + std::to_string(rank);
     const std::string  folder  = name + "_output";
     // Each plan solved on its own (no response basis), as the serial
-    // models below solve it.
+    // models below solve it; the mass tensor model's precision against its
+    // converged answer, which the members solve from the points alone.
     Simulator simulator;
     run_on_coarse_mesh(comm,
                        name,
                        folder,
                        "subsection Planning\n  set Response basis = "
                        "never\nend\nsubsection Models\n  set Models = mass "
-                       "tensor, mass spring\nend\n",
+                       "tensor, mass spring\n  subsection mass tensor\n    "
+                       "set Report precision = true\n  end\nend\n",
                        "mass tensor and mass spring",
                        simulator);
     const Scene &scene = simulator.scene();
@@ -241,12 +243,26 @@ namespace
     // The serial models on rank 0's scene, each plan in turn on one model
     // (the mass spring model starts the second plan from the first's).
     std::unique_ptr<Models::Interface> serial_model;
+    const auto precision = [](const Models::Statistics &statistics) {
+      for (const auto &detail : statistics.details)
+        if (detail.name == "precision max")
+          return detail.value;
+      return -1.;
+    };
     for (unsigned int r = 0; r < runs.size() && r < 4; ++r)
       {
         const std::string model_name = r < 2 ? "mass tensor" : "mass spring";
         const std::string what =
           "  " + model_name + ", plan " + std::to_string(r % 2 + 1) + ": ";
         check_ran_on_the_ranks(what, runs[r], comm);
+        // Each rank measures the precision against the converged answer
+        // it solved itself (a member from its points alone).
+        if (r < 2)
+          check_equal(what + "ranks unlike rank 0: precision",
+                      ranks_unlike_rank_0(std::vector<double>{precision(
+                                            runs[r].statistics)},
+                                          comm),
+                      0);
         if (rank != 0)
           continue;
         if (r % 2 == 0)
@@ -267,6 +283,18 @@ namespace
         check_equal(what + "sweeps (or load steps' sweeps) against serial",
                     runs[r].statistics.iterations,
                     serial_model->statistics().iterations);
+        if (r < 2)
+          {
+            // Rank 0's figure against the serial one.
+            check_above(what + "precision (mm)",
+                        precision(runs[r].statistics),
+                        1e-6);
+            check_below(what + "precision, difference to the serial model's "
+                               "(mm)",
+                        std::abs(precision(runs[r].statistics) -
+                                 precision(serial_model->statistics())),
+                        1e-12);
+          }
         check_above(what + "largest |u_i| (mm)",
                     runs[r].displacement.linfty_norm(),
                     3.);

@@ -128,11 +128,13 @@ md = ["# Groups of MPI ranks whose members hold no scene cells"
       f"{s['tets']} tetrahedra, {s['vertices']} vertices, {WHAT} alone, one "
       "thread per rank; serially once, then `mpiexec -n 2` with `Models/Mesh group size` 1 and 2 "
       + ("once each. " if REPEAT == 1 else f"interleaved, {REPEAT} times (medians). ")
-      + "With groups of 2 rank 0 reads or makes the mesh "
-      "and describes rank 1's part; rank 1 holds its part and the arrays per vertex and DoF rank 0 "
-      "sent it, no cell of the scene"
-      + (" (the point models: the tetrahedra and their tissues, 20 bytes a cell, in their "
-         "`PointMesh`)" if points else "")
+      + ("With groups of 2 rank 0 reads or makes the mesh and sends rank 1 the arrays per vertex "
+         "and DoF and the tetrahedra and their tissues (17 bytes a cell, for each model's "
+         "`PointMesh`); rank 1 holds no cell of the scene (no fields are written, so no partition "
+         "is made)" if points else
+         "With groups of 2 rank 0 reads or makes the mesh "
+         "and describes rank 1's part; rank 1 holds its part and the arrays per vertex and DoF "
+         "rank 0 sent it, no cell of the scene")
       + ". Peak memory is each process's VmHWM as softface reports it. "
       f"CSV: [{STEM}.csv]({STEM}.csv).", "",
       "| | " + " | ".join(c for c, _, _ in CASES) + " |", "|---|---|---|---|"]

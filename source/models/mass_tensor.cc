@@ -7,14 +7,13 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
 
-#include <deal.II/lac/dynamic_sparsity_pattern.h>
-
 #include <softface/core/displacement.h>
 #include <softface/core/error.h>
 #include <softface/core/release.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
+#include <softface/fe/point_block_pattern.h>
 #include <softface/models/active_set.h>
 #include <softface/models/mass_tensor.h>
 #include <softface/models/point_exchange.h>
@@ -395,19 +394,7 @@ namespace softface
             ConstrainedSystem::make_sparsity_pattern(*scene,
                                                      converged_sparsity);
           else
-            {
-              DynamicSparsityPattern dsp(3 * n);
-              for (unsigned int j = 0; j < n; ++j)
-                for (unsigned int r = 0; r < 3; ++r)
-                  for (unsigned int s = 0; s < 3; ++s)
-                    {
-                      dsp.add(3 * j + r, 3 * j + s);
-                      for (unsigned int i = row_start[j]; i < row_start[j + 1];
-                           ++i)
-                        dsp.add(3 * j + r, 3 * neighbour[i] + s);
-                    }
-              converged_sparsity.copy_from(dsp);
-            }
+            PointBlockPattern(*mesh).make_sparsity(converged_sparsity);
           converged_matrix.reinit(converged_sparsity);
           for (unsigned int j = 0; j < n; ++j)
             for (unsigned int r = 0; r < 3; ++r)

@@ -1,6 +1,8 @@
 // The scene as points and neighbours (models): the setup that the mass tensor
 // and mass spring models share.
 
+#include <deal.II/base/array_view.h>
+
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
@@ -49,14 +51,25 @@ namespace softface
               tissue.push_back(scene.tissue_of_cell(tissue.size()));
             }
         }
-      // Ranks without cells get them from rank 0, which has them.
-      if (Utilities::MPI::max(int(!scene.has_cells()), communicator) != 0)
+      // Ranks without cells get them from rank 0, which must have them.
+      // Decided together: does any rank lack cells, does rank 0?
+      const bool sends    = Utilities::MPI::this_mpi_process(communicator) == 0;
+      const int  local[2] = {!scene.has_cells(), sends && !scene.has_cells()};
+      int        lacking[2];
+      Utilities::MPI::max(ArrayView<const int>(local, 2),
+                          communicator,
+                          ArrayView<int>(lacking, 2));
+      if (lacking[1] != 0)
+        throw Error(model + ": rank 0 of its MPI ranks holds none of the "
+                            "scene's cells to send the others.");
+      // A constrained step reads the constraints' cells (the simulator
+      // keeps every rank's cells with them).
+      if (lacking[0] != 0 && scene.has_vertex_constraints())
+        throw Error(model + ": vertex constraints (sliding contact, "
+                            "separated lips) need the scene's cells on "
+                            "every MPI rank.");
+      if (lacking[0] != 0)
         {
-          const bool sends =
-            Utilities::MPI::this_mpi_process(communicator) == 0;
-          AssertThrow(!sends || scene.has_cells(),
-                      ExcMessage("Rank 0 of a point model's ranks holds no "
-                                 "cells to send."));
           const SubCommunicator receivers(communicator,
                                           sends || !scene.has_cells());
           if (receivers.communicator != MPI_COMM_NULL)

@@ -25,14 +25,16 @@ namespace softface
      * and the vertices' positions), so that on several MPI ranks a rank
      * whose scene holds no cells (Scene::has_cells(), issue 20) runs the
      * model on the points alone: rank 0 of the model's communicator sends
-     * it the tetrahedra and their tissues (20 bytes a cell, where the
-     * scene's triangulation and DoFs would cost several hundred).
+     * it the tetrahedra and their tissues (17 bytes a cell, where the
+     * scene's triangulation and DoFs cost about 360: see
+     * doc/results/scaling_groups_points.md).
      */
     struct PointMesh
     {
       /// Throws an error naming @p model if the DoFs are not point blocks.
-      /// Collective on @p communicator when some of its ranks hold no cells
-      /// (rank 0 must hold them).
+      /// Collective on @p communicator; where some of its ranks hold no
+      /// cells, rank 0 must hold them and the scene may have no vertex
+      /// constraints (an error on every rank otherwise).
       PointMesh(const Scene       &scene,
                 const std::string &model,
                 const MPI_Comm     communicator = MPI_COMM_SELF);
