@@ -11,7 +11,9 @@
 // Then the quadratic reference alone on a coarser gmsh mesh: its DoFs live on
 // the ranks' parts, so its members hold no cells either; its vertex values
 // and its field at the evaluation points (each point evaluated by the rank
-// that owns its cell) equal the serial reference's. Then the mass tensor
+// that owns its cell; one on a face between rank 0's and rank 1's cells,
+// whose value a second evaluation would double) equal the serial
+// reference's. Then the mass tensor
 // and mass spring models alone on that mesh: their members hold no cells
 // (rank 0 sends the tetrahedra), and their answers and sweeps are the
 // serial models'. On 3 and 4 ranks, last:
@@ -32,6 +34,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -129,8 +132,39 @@ namespace
     const unsigned int rank    = Utilities::MPI::this_mpi_process(comm);
     const std::string  name    = stem + "reference_" + std::to_string(rank);
     const std::string  folder  = name + "_output";
-    const std::string  points_file =
-      source_file("data/points/run_evaluation_points.csv");
+    // The points of run_evaluation_points.csv and the centre of a face
+    // between a cell of rank 0 and one of rank 1 (the partition is the
+    // cells' order in ranges), whose value must come from one rank only.
+    const std::string points_file = stem + "reference_points.csv";
+    bool              face_found  = false;
+    if (rank == 0)
+      {
+        Triangulation<3> mesh;
+        Mesh::read_file(source_file("data/offcentre_coarse/mesh.msh"), mesh);
+        const auto owners =
+          cell_owners(mesh,
+                      n_ranks,
+                      DistributedLayout::Partitioner::cell_order);
+        Point<3> face_centre;
+        for (const auto &cell : mesh.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (!face_found && !cell->at_boundary(f) &&
+                owners[cell->active_cell_index()] == 0 &&
+                owners[cell->neighbor(f)->active_cell_index()] == 1)
+              {
+                face_centre = cell->face(f)->center();
+                face_found  = true;
+              }
+        std::ifstream in(source_file("data/points/run_evaluation_points.csv"));
+        std::ostringstream points;
+        points << in.rdbuf();
+        std::string text = points.str();
+        if (!text.empty() && text.back() != '\n')
+          text += '\n';
+        std::ofstream out(points_file);
+        out << text << std::setprecision(17) << face_centre[0] << ','
+            << face_centre[1] << ',' << face_centre[2] << '\n';
+      }
     Simulator simulator;
     run_on_coarse_mesh(comm,
                        name,
@@ -142,6 +176,11 @@ namespace
                        "reference fem",
                        simulator);
     const Scene &scene = simulator.scene();
+    if (rank == 0)
+      check_equal("  an evaluation point on a face between rank 0's and "
+                  "rank 1's cells",
+                  face_found,
+                  true);
 
     const auto &runs = simulator.runs();
     check_equal("  model runs (two plans)", runs.size(), 2);
