@@ -126,13 +126,9 @@ namespace softface
       std::vector<double> edge_volume(neighbour.size(), 0.);
       for (unsigned int c = 0; c < mesh->tetrahedra.size(); ++c)
         {
-          const auto  &p = mesh->tetrahedra[c];
-          const double volume =
-            weight[mesh->tissue[c]] *
-            Tetrahedron::signed_volume({{mesh->position[p[0]],
-                                         mesh->position[p[1]],
-                                         mesh->position[p[2]],
-                                         mesh->position[p[3]]}});
+          const auto  &p      = mesh->tetrahedra[c];
+          const double volume = weight[mesh->tissue[c]] *
+                                Tetrahedron::signed_volume(mesh->vertices(c));
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int b = a + 1; b < 4; ++b)
               edge_volume[mesh->edge_index(std::min(p[a], p[b]),

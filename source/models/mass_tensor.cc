@@ -346,11 +346,7 @@ namespace softface
           if (!held(p[0]) && !held(p[1]) && !held(p[2]) && !held(p[3]))
             continue;
           const Elasticity::CellMatrix K =
-            Elasticity::p1_stiffness(Tetrahedron::geometry(
-                                       {{mesh->position[p[0]],
-                                         mesh->position[p[1]],
-                                         mesh->position[p[2]],
-                                         mesh->position[p[3]]}}),
+            Elasticity::p1_stiffness(Tetrahedron::geometry(mesh->vertices(c)),
                                      A[mesh->tissue[c]]);
           for (unsigned int a = 0; a < 4; ++a)
             if (held(p[a]))

@@ -5,6 +5,7 @@
 #include <deal.II/base/point.h>
 
 #include <softface/core/scene.h>
+#include <softface/core/tetrahedron.h>
 
 #include <array>
 #include <string>
@@ -41,6 +42,16 @@ namespace softface
 
       unsigned int
       n_points() const;
+
+      /// The reference positions of tetrahedron @p t's points, in the order
+      /// of its cell's vertices.
+      Tetrahedron::Vertices
+      vertices(const unsigned int t) const
+      {
+        const auto &p = tetrahedra[t];
+        return {
+          {position[p[0]], position[p[1]], position[p[2]], position[p[3]]}};
+      }
 
       /// Index into neighbour[] of the edge (j, k); k must be a neighbour.
       unsigned int
