@@ -34,7 +34,6 @@ subsection Scene
     end
     subsection Mesh
       set Target number of tetrahedra = 3000
-      set Optimisation time           = 1
     end
   end
 end

@@ -13,6 +13,7 @@
 #include <softface/patient/segmentation.h>
 #include <softface/patient/tetrahedral_mesh.h>
 
+#include "phantom_le_fort.h"
 #include "tests.h"
 
 using namespace softface;
@@ -28,34 +29,10 @@ SOFTFACE_TEST(patient_mesh)
   const LabelVolume labels =
     segment(ct, SegmentationParameters(), "phantom").labels;
 
-  OsteotomyParameters osteotomy;
-  Cut                 le_fort;
-  le_fort.name                            = "le fort I";
-  le_fort.point                           = {{0., 0., 0.}};
-  le_fort.normal                          = {{0., 0., 1.}};
-  le_fort.box_min                         = {{-80., -110., -8.}};
-  le_fort.box_max                         = {{80., 0., 8.}};
-  osteotomy.cuts                          = {le_fort};
-  const std::vector<SegmentSeed> segments = {{"cranium", {{0., -40., 30.}}},
-                                             {"maxilla", {{0., -66., -8.}}},
-                                             {"mandible",
-                                              {{-15., -58., -42.}}}};
-  const LabelVolume              parts =
-    split_bone(labels, bone_tissue, osteotomy, segments);
-
-  RegionOfInterest roi;
-  roi.box_min = {{-85., -130., -100.}};
-  roi.box_max = {{85., 25., 35.}};
-  TetrahedralMeshParameters parameters;
-  parameters.target_n_tetrahedra  = 15000;
-  parameters.optimisation_seconds = 5.;
-  const TetrahedralMesh mesh =
-    make_tetrahedral_mesh(labels,
-                          {skin_tissue, fat_tissue, muscle_tissue},
-                          bone_tissue,
-                          parts,
-                          roi,
-                          parameters);
+  const auto            le_fort  = softface_tests::phantom_le_fort();
+  const auto           &segments = le_fort.segments;
+  const auto           &roi      = le_fort.roi;
+  const TetrahedralMesh mesh     = le_fort.mesh(labels);
 
   std::size_t n_soft = 0;
   for (std::size_t k = 0; k < labels.size[2]; ++k)

@@ -86,8 +86,9 @@ namespace softface_tests
 
   /**
    * "what: in [low, high]"; the test fails if value is outside or NaN. For
-   * quantities that change from run to run by design (CGAL's Mesh_3 is not
-   * repeatable), so the value itself is printed only when it fails.
+   * quantities that another version of a library may change (a CGAL Mesh_3
+   * mesh is the same from run to run, but not from one CGAL or C library to
+   * another), so the value itself is printed only when it fails.
    */
   inline void
   check_within(const std::string &what,

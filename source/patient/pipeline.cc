@@ -378,9 +378,8 @@ namespace softface
       const auto &m = prm.mesh;
       inputs << m.cell_size << ' ' << m.target_n_tetrahedra << ' '
              << m.facet_distance << ' ' << m.facet_angle << ' '
-             << m.radius_edge_ratio << ' ' << m.optimisation_seconds << ' '
-             << m.sliver_bound << ' ' << m.conforming_interfaces << ' '
-             << m.seed << '\n';
+             << m.radius_edge_ratio << ' ' << m.sliver_bound << ' '
+             << m.conforming_interfaces << ' ' << m.seed << '\n';
       const std::string mesh_stamp = labels_stamp + inputs.str();
 
       model.mesh_file = file("mesh.vtu");
@@ -458,6 +457,8 @@ namespace softface
           figure("mesh vertices", std::to_string(mesh.points.size()));
           figure("min dihedral deg", number(q.min_dihedral_angle));
           figure("worst radius ratio", number(q.worst_radius_ratio));
+          figure("sliver perturbation", mesh.perturbation_outcome);
+          figure("sliver exudation", mesh.exudation_outcome);
           figure("mesh volume cm3", number(q.volume / 1000.));
           figure("soft tissue in region cm3", number(soft_volume / 1000.));
           figure("bone split s", number(split_seconds));

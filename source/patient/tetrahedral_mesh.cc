@@ -15,7 +15,9 @@
 #include <CGAL/Mesh_complex_3_in_triangulation_3.h>
 #include <CGAL/Mesh_criteria_3.h>
 #include <CGAL/Mesh_triangulation_3.h>
+#include <CGAL/exude_mesh_3.h>
 #include <CGAL/make_mesh_3.h>
+#include <CGAL/perturb_mesh_3.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +25,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <sstream>
 
 namespace softface
 {
@@ -58,6 +61,56 @@ namespace softface
       norm(const Vec3 &a)
       {
         return std::sqrt(dot(a, a));
+      }
+
+      // CGAL's sliver perturbation and exudation, each run until every
+      // dihedral angle reaches the sliver bound or no move improves the
+      // worst one. CGAL's own bound on them is wall-clock time: a mesh cut
+      // short by the clock depends on how busy the machine is, so the
+      // safety limit ends the run with an error instead of returning it.
+      // The outcome of each ("bound reached" or "no further improvement")
+      // is reported with the mesh.
+      void
+      optimise_slivers(C3t3                            &c3t3,
+                       const Domain                    &domain,
+                       const TetrahedralMeshParameters &prm,
+                       std::array<std::string, 2>      &outcome)
+      {
+        const auto check =
+          [&](const std::string                        &step,
+              const CGAL::Mesh_optimization_return_code code) -> std::string {
+          if (code == CGAL::BOUND_REACHED)
+            return "bound reached";
+          if (code == CGAL::CANT_IMPROVE_ANYMORE)
+            return "no further improvement";
+          if (code == CGAL::TIME_LIMIT_REACHED)
+            {
+              std::ostringstream s;
+              s << "Mesh: CGAL's " << step << " ran past "
+                << "Scene/Patient/Mesh/Optimisation safety limit = "
+                << prm.optimisation_safety_seconds
+                << " s (wall-clock time) before it ended by itself. A mesh "
+                   "cut short by the clock would depend on how busy the "
+                   "machine is, so none is made: raise the limit (0: none) "
+                   "or lower Sliver bound.";
+              throw Error(s.str());
+            }
+          return "CGAL code " + std::to_string(static_cast<int>(code));
+        };
+        namespace p = CGAL::parameters;
+        outcome[0] =
+          check("sliver perturbation",
+                CGAL::perturb_mesh_3(c3t3,
+                                     domain,
+                                     p::time_limit =
+                                       prm.optimisation_safety_seconds,
+                                     p::sliver_bound = prm.sliver_bound));
+        outcome[1] =
+          check("sliver exudation",
+                CGAL::exude_mesh_3(c3t3,
+                                   p::time_limit =
+                                     prm.optimisation_safety_seconds,
+                                   p::sliver_bound = prm.sliver_bound));
       }
     } // namespace
 
@@ -305,7 +358,8 @@ namespace softface
                     (0.05 * std::max(1u, prm.target_n_tetrahedra)));
 
       namespace p = CGAL::parameters;
-      C3t3 c3t3;
+      C3t3                       c3t3;
+      std::array<std::string, 2> outcome;
       for (unsigned int attempt = 0; attempt < 2; ++attempt)
         {
           CGAL::Random random(prm.seed);
@@ -317,13 +371,11 @@ namespace softface
                                   p::cell_radius_edge_ratio =
                                     prm.radius_edge_ratio,
                                   p::cell_size = cell_size);
-          c3t3 = CGAL::make_mesh_3<C3t3>(
-            domain,
-            criteria,
-            p::perturb(p::time_limit   = prm.optimisation_seconds,
-                       p::sliver_bound = prm.sliver_bound),
-            p::exude(p::time_limit   = prm.optimisation_seconds,
-                     p::sliver_bound = prm.sliver_bound));
+          c3t3 = CGAL::make_mesh_3<C3t3>(domain,
+                                         criteria,
+                                         p::no_perturb(),
+                                         p::no_exude());
+          optimise_slivers(c3t3, domain, prm, outcome);
           const double ratio = double(c3t3.number_of_cells_in_complex()) /
                                std::max(1u, prm.target_n_tetrahedra);
           if (prm.cell_size > 0. || (ratio > 0.75 && ratio < 1.25) ||
@@ -349,7 +401,9 @@ namespace softface
                               D[2] * (D[3] * D[7] - D[4] * D[6]) <
                             0.;
 
-      TetrahedralMesh                           mesh;
+      TetrahedralMesh mesh;
+      mesh.perturbation_outcome = outcome[0];
+      mesh.exudation_outcome    = outcome[1];
       std::map<Tr::Vertex_handle, unsigned int> index;
       const Tr                                 &tr = c3t3.triangulation();
       const auto point_of = tr.geom_traits().construct_point_3_object();

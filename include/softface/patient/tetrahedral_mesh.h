@@ -31,13 +31,16 @@ namespace softface
     {
       /// Largest circumradius of a tetrahedron (mm); 0: chosen from the
       /// target number of tetrahedra and the soft tissue's volume.
-      double       cell_size            = 0.;
-      unsigned int target_n_tetrahedra  = 100000;
-      double       facet_distance       = 1.;  ///< mm, surface accuracy
-      double       facet_angle          = 30.; ///< degrees, lower bound
-      double       radius_edge_ratio    = 3.;
-      double       optimisation_seconds = 20.; ///< perturb and exude, each
-      double       sliver_bound         = 12.; ///< degrees, their target
+      double       cell_size           = 0.;
+      unsigned int target_n_tetrahedra = 100000;
+      double       facet_distance      = 1.;  ///< mm, surface accuracy
+      double       facet_angle         = 30.; ///< degrees, lower bound
+      double       radius_edge_ratio   = 3.;
+      double       sliver_bound = 12.; ///< degrees, optimisation's target
+      /// Wall-clock seconds after which CGAL's sliver perturbation or
+      /// exudation ends the run with an error (0: no limit). A safety stop
+      /// only: the mesh never depends on it.
+      double optimisation_safety_seconds = 600.;
       /// Mesh the interfaces between tissues (skin, fat, muscle) too; else
       /// the soft tissue is one domain and each cell takes the tissue at
       /// its centroid (better cells where a layer is thinner than a cell).
@@ -46,7 +49,7 @@ namespace softface
     };
 
     /// Changes whenever the mesher does (see Phantom::anatomy_version).
-    constexpr unsigned int mesher_version = 7;
+    constexpr unsigned int mesher_version = 8;
 
     /// Boundary ids of a patient mesh.
     constexpr unsigned int skin_boundary_id = 1;
@@ -65,6 +68,10 @@ namespace softface
       std::vector<std::uint8_t>                material_ids;
       std::vector<std::array<unsigned int, 3>> boundary_faces;
       std::vector<unsigned int>                boundary_ids;
+      /// How CGAL's sliver perturbation and exudation ended: "bound
+      /// reached" (every dihedral angle at least the sliver bound) or "no
+      /// further improvement".
+      std::string perturbation_outcome, exudation_outcome;
 
       struct Quality
       {

@@ -178,11 +178,15 @@ namespace softface
                         Patterns::Double(2.),
                         "Largest circumradius / shortest edge of a "
                         "tetrahedron.");
-      prm.declare_entry("Optimisation time",
-                        "20",
-                        Patterns::Double(0.),
-                        "Seconds for each of CGAL's sliver perturbation and "
-                        "exudation.");
+      prm.declare_entry(
+        "Optimisation safety limit",
+        "600",
+        Patterns::Double(0.),
+        "Wall-clock seconds after which CGAL's sliver perturbation or "
+        "exudation ends the run with an error (0: no limit). Each runs until "
+        "every dihedral angle reaches the sliver bound or no move improves "
+        "the worst one, so the mesh is the same on an idle or a busy machine; "
+        "the limit only stops a run that would take too long.");
       prm.declare_entry("Conforming tissue interfaces",
                         "false",
                         Patterns::Bool(),
@@ -280,7 +284,8 @@ namespace softface
       mesh.facet_distance      = prm.get_double("Facet distance");
       mesh.facet_angle         = prm.get_double("Facet angle");
       mesh.radius_edge_ratio   = prm.get_double("Radius-edge ratio");
-      mesh.optimisation_seconds  = prm.get_double("Optimisation time");
+      mesh.optimisation_safety_seconds =
+        prm.get_double("Optimisation safety limit");
       mesh.sliver_bound          = prm.get_double("Sliver bound");
       mesh.conforming_interfaces = prm.get_bool("Conforming tissue interfaces");
       mesh.seed                  = prm.get_integer("Seed");
