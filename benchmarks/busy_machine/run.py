@@ -171,6 +171,11 @@ def main():
         binaries.append((name, os.path.abspath(path)))
     if shutil.which("g++") is None:
         sys.exit("busy_machine: needs g++ for the compile load")
+    try:
+        import matplotlib  # noqa: F401 (the plot, after the runs)
+    except ImportError:
+        sys.exit("busy_machine: needs python3-matplotlib (apt-get install -y "
+                 "python3-matplotlib)")
     bounds = args.sliver_bound or [None]
     scratch = tempfile.mkdtemp(prefix="softface_busy_")
     scene = os.path.abspath(args.scene)
@@ -292,6 +297,8 @@ def plot(rows, png):
                     "same" if same else "other", ha="center", va="bottom",
                     fontsize=7, color="black" if same else "red",
                     rotation=90)
+    top = max(float(r["mesh stage s"] or 0) for r in rows)
+    ax.set_ylim(0, 1.2 * top)
     ax.set_xticks([k + 0.4 - width / 2 for k in range(len(labels))])
     ax.set_xticklabels(labels, fontsize=8)
     ax.set_ylabel("mesh stage (s, wall clock)")
