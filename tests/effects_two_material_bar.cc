@@ -7,7 +7,9 @@
 // exactly. Linear FEM and the converged mass tensor model must reproduce it
 // to the solver's tolerance, with the effect on and, giving the homogeneous
 // answer u_x = delta x / L, off. The nonlinear FEM approaches it for a small
-// pull; the mass spring model (springs, not elasticity) only roughly.
+// pull; the mass spring model (springs, not elasticity) only roughly. Each
+// tissue's own Poisson's ratio: the right tissue alone deforming gives the
+// answer of homogeneous tissue with its Poisson's ratio.
 
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_spring.h>
@@ -179,4 +181,45 @@ SOFTFACE_TEST(effects_two_material_bar)
       0.9,
       1.1);
   }
+
+  // Each tissue's own Poisson's ratio. The left tissue held whole (every
+  // vertex of its cells a join point) leaves the right one alone to deform:
+  // pulled along x, its sides contract by its Poisson's ratio 0.3, and
+  // under displacement loading its modulus does not matter. The effect's
+  // answer (tissues 0.1 and 0.3, Material's 0.46 unused) must then be the
+  // answer of homogeneous tissue with Material/Poisson's ratio = 0.3, which
+  // reaches the model by another path.
+  const auto held_left = [&](Scene &s) {
+    softface_tests::make_block(s, 3000, 3);
+    s.segments = {{"held", {1}, {}, {}}, {"right", {}, {11}, {}}};
+  };
+  Scene two_tissues, one_tissue;
+  held_left(two_tissues);
+  two_tissues.material.poissons_ratio = 0.46;
+  two_tissues.setup();
+  softface_tests::apply_effect(two_tissues,
+                               "heterogeneous tissue",
+                               {{"Young's moduli", "1: 3000, 3: 12000"},
+                                {"Poisson's ratios", "1: 0.1, 3: 0.3"}});
+  held_left(one_tissue);
+  one_tissue.material.poissons_ratio = 0.3;
+  one_tissue.setup();
+  Vector<double> u_two, u_one;
+  for (auto [s, u] : {std::make_pair(&two_tissues, &u_two),
+                      std::make_pair(&one_tissue, &u_one)})
+    {
+      Models::LinearFEM fem;
+      fem.set_solver("direct", 0.);
+      fem.setup(*s);
+      fem.solve(pull(*s, 4.), *u);
+    }
+  softface_tests::print("right tissue held on the left, pulled 4 mm: max |u| "
+                        "(mm)",
+                        u_one.linfty_norm(),
+                        6);
+  u_two -= u_one;
+  softface_tests::check_below(
+    "two tissues (nu 0.1, 0.3) - one tissue (nu 0.3), max |difference| (mm)",
+    u_two.linfty_norm(),
+    1e-9);
 }

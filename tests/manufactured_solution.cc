@@ -14,6 +14,7 @@
 
 #include "scenes.h"
 #include "tests.h"
+#include "textbook.h"
 
 using namespace softface;
 
@@ -87,7 +88,10 @@ SOFTFACE_TEST(manufactured_solution)
       scene.material.youngs_modulus_pa = 1e6; // E = 1 N/mm^2
       scene.material.poissons_ratio    = 0.3;
       scene.setup();
-      const double lambda = scene.material.lambda(), mu = scene.material.mu();
+      // From the textbook, not from the code under test: a wrong Lame
+      // coefficient in the model then leaves the exact solution behind.
+      const auto   lame   = softface_tests::textbook_lame(1., 0.3);
+      const double lambda = lame.lambda, mu = lame.mu;
 
       Vector<double>                       forces(scene.dof_handler.n_dofs());
       const QGaussSimplex<3>               quadrature(4);

@@ -2,7 +2,9 @@
 // affine displacement field exactly, at skin points inside the mesh and at
 // points off it that it projects onto the mesh's skin (P1 shape functions
 // extrapolate an affine field exactly); inverse distance weighting reproduces
-// a constant field exactly; a skin out of the mesh's reach is refused.
+// a constant field exactly, and between two known points 1 and 3 mm away
+// gives the value of seed eq. 14 computed here (weights 1/d, not d: 0.25,
+// not 0.75); a skin out of the mesh's reach is refused.
 
 #include <softface/core/error.h>
 #include <softface/core/mesh.h>
@@ -120,6 +122,45 @@ SOFTFACE_TEST(mapping_skin)
     SurfaceMapping::inverse_distance_mapping(mesh, box, parameters)
       .n_without_neighbours,
     0);
+
+  // Inverse distance weighting where the weights matter: a mesh skin
+  // triangle A B C whose vertices A and B are skin points p0 and p2 (the
+  // known points; C is farther than the reach from every skin point), and a
+  // skin point p1 on AB 1 mm from A and 3 mm from B. With u(A) = 0 and
+  // u(B) = 1, seed eq. 14 gives u(p1) = (0 / 1 + 1 / 3) / (1 / 1 + 1 / 3).
+  {
+    SurfaceMapping::VolumeMesh strip;
+    strip.vertices = {Point<3>(0, 0, 0),
+                      Point<3>(4, 0, 0),
+                      Point<3>(2, 20, 0),
+                      Point<3>(2, 5, -20)};
+    strip.cells    = {{{0, 1, 2, 3}}};
+    strip.skin     = {strip.vertices, {{{0, 1, 2}}}};
+    SurfaceMapping::Surface skin;
+    skin.points    = {Point<3>(0, 0, 0),
+                      Point<3>(1, 0, 0),
+                      Point<3>(4, 0, 0),
+                      Point<3>(2, 0.5, 0)};
+    skin.triangles = {{{0, 1, 3}}, {{1, 2, 3}}};
+    SurfaceMapping::Parameters idw;
+    idw.method = SurfaceMapping::Method::inverse_distance;
+    idw.radius = 3.5;
+    const auto mapping =
+      SurfaceMapping::inverse_distance_mapping(strip, skin, idw);
+    std::vector<Tensor<1, 3>> strip_u(4);
+    strip_u[1][0] = 1.;
+    strip_u[2][0] = 5.; // C is no known point: it must not count
+    mapping.map(strip_u, u);
+    const double exact = (0. / 1. + 1. / 3.) / (1. / 1. + 1. / 3.);
+    softface_tests::print("inverse distance, p1 between A (1 mm) and B (3 mm): "
+                          "u(p1)",
+                          u[1][0],
+                          6);
+    softface_tests::check_below(
+      "inverse distance, |u(p1) - (0/1 + 1/3) / (1/1 + 1/3)|",
+      std::abs(u[1][0] - exact),
+      1e-12);
+  }
 
   // A skin far from the mesh (another frame) is refused.
   const auto far = softface_tests::transformed(sphere, [](const Point<3> &p) {

@@ -3,7 +3,8 @@
 // integration: FEValues on FESystem(FE_SimplexP<3>(1),3) with MappingFE and
 // QGaussSimplex, assembled over a whole small distorted cube mesh.
 // Independent truth: the textbook bilinear form lambda div u div v + 2 mu
-// eps(u):eps(v) integrated by deal.II.
+// eps(u):eps(v) integrated by deal.II, with Lame's coefficients from the
+// textbook (tests.h), not from softface's Material.
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_values.h>
@@ -14,6 +15,7 @@
 
 #include "scenes.h"
 #include "tests.h"
+#include "textbook.h"
 
 using namespace softface;
 
@@ -22,7 +24,10 @@ SOFTFACE_TEST(p1_stiffness_vs_fevalues)
   Scene scene;
   scene.material.poissons_ratio = 0.46;
   softface_tests::make_distorted_cube_scene(scene, 400, false);
-  const double lambda = scene.material.lambda(), mu = scene.material.mu();
+  const auto lame =
+    softface_tests::textbook_lame(scene.material.youngs_modulus(),
+                                  scene.material.poissons_ratio);
+  const double lambda = lame.lambda, mu = lame.mu;
 
   SparsityPattern sparsity;
   ConstrainedSystem::make_sparsity_pattern(scene, sparsity);
