@@ -10,6 +10,7 @@
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
+#include <softface/patient/build_stamp.h>
 #include <softface/patient/image_io.h>
 #include <softface/patient/pipeline.h>
 #include <softface/patient/registration.h>
@@ -30,8 +31,9 @@ namespace softface
     {
       namespace fs = std::filesystem;
 
-      // What a stage's output depends on, as text: a stage is skipped when
-      // its stamp file holds the same.
+      // What a stage's output depends on, as text (the build and library
+      // versions of build_stamp(), then the stage's inputs and parameters):
+      // a stage is skipped when its stamp file holds the same.
       template <typename... T>
       std::string
       stamp_of(const T &...items)
@@ -164,26 +166,26 @@ namespace softface
       if (prm.ct_volume.empty())
         {
           const auto &p = prm.phantom;
-          ct_stamp      = stamp_of("phantom",
-                              Phantom::anatomy_version,
-                              p.voxel_size,
-                              p.field_of_view[0],
-                              p.field_of_view[1],
-                              p.field_of_view[2],
-                              p.centre[0],
-                              p.centre[1],
-                              p.centre[2],
-                              p.face_width,
-                              p.face_height,
-                              p.soft_tissue_thickness,
-                              p.mandible_length,
-                              p.mandible_angle,
-                              p.profile,
-                              p.jaw_discrepancy,
-                              p.noise,
-                              p.blur,
-                              p.metal_streaks,
-                              p.seed);
+          ct_stamp      = build_stamp() + stamp_of("phantom",
+                                              Phantom::anatomy_version,
+                                              p.voxel_size,
+                                              p.field_of_view[0],
+                                              p.field_of_view[1],
+                                              p.field_of_view[2],
+                                              p.centre[0],
+                                              p.centre[1],
+                                              p.centre[2],
+                                              p.face_width,
+                                              p.face_height,
+                                              p.soft_tissue_thickness,
+                                              p.mandible_length,
+                                              p.mandible_angle,
+                                              p.profile,
+                                              p.jaw_discrepancy,
+                                              p.noise,
+                                              p.blur,
+                                              p.metal_streaks,
+                                              p.seed);
           if (prm.reuse &&
               up_to_date(work / "ct.stamp",
                          ct_stamp,
@@ -224,7 +226,8 @@ namespace softface
             {
               throw Error(std::string("Scene/Patient/CT volume: ") + e.what());
             }
-          ct_stamp = stamp_of("file", file_stamp(prm.ct_volume));
+          ct_stamp =
+            build_stamp() + stamp_of("file", file_stamp(prm.ct_volume));
           log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
               << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
         }

@@ -26,6 +26,10 @@ namespace softface
     write_volume(const CTVolume &volume, const std::string &filename);
     void
     write_volume(const LabelVolume &volume, const std::string &filename);
+
+    /// The version of ITK this process runs with, e.g. "5.2.1".
+    std::string
+    itk_version();
   } // namespace Patient
 } // namespace softface
 

@@ -90,8 +90,9 @@ namespace softface
      * of their own: ct.nii.gz (the phantom; with its truth labels), then
      * labels.nii.gz with skin.ply/.vtp and skull.ply/.vtp, then
      * bone_parts.nii.gz and mesh.vtu/.msh. A stage whose inputs and
-     * parameters are those of its last run (its .stamp file) is skipped when
-     * reuse is on. Progress and figures go to @p log.
+     * parameters are those of its last run (its .stamp file), made by the
+     * same build of softface with the same ITK, VTK and CGAL (build_stamp()),
+     * is skipped when reuse is on. Progress and figures go to @p log.
      */
     PatientModel
     build_patient_model(const PatientParameters        &parameters,

@@ -88,7 +88,8 @@ namespace softface
                         "true",
                         Patterns::Bool(),
                         "Skip a stage whose inputs and parameters are those of "
-                        "its last run in the work directory.");
+                        "its last run in the work directory, made by the same "
+                        "build of softface with the same ITK, VTK and CGAL.");
       prm.declare_entry("Post-operative skull",
                         "",
                         Patterns::Anything(),

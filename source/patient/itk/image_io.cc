@@ -18,6 +18,7 @@
 #include <itkImageFileWriter.h>
 #include <itkImageIOFactory.h>
 #include <itkImageSeriesReader.h>
+#include <itkVersion.h>
 
 #include <filesystem>
 
@@ -163,6 +164,12 @@ namespace softface
     write_volume(const LabelVolume &volume, const std::string &filename)
     {
       write(volume, filename);
+    }
+
+    std::string
+    itk_version()
+    {
+      return itk::Version::GetITKVersion();
     }
   } // namespace Patient
 } // namespace softface
