@@ -54,12 +54,16 @@ SOFTFACE_TEST(patient_stage_reuse)
 {
   std::string library;
   const auto  id = library_build_id(&library);
-  dealii::deallog << "build ID: " << id.size() * 4 << " bits" << std::endl;
-  softface_tests::check_equal("build ID equal to readelf's",
-                              id == readelf_build_id(library),
+  // Without a build ID in the library, a hash of its file stands in.
+  const std::string from_readelf = readelf_build_id(library);
+  softface_tests::check_equal("build ID equal to readelf's (or, without one, "
+                              "a hash of the library file)",
+                              from_readelf.empty() ?
+                                id.rfind("fnv1a-", 0) == 0 :
+                                id == from_readelf,
                               1);
   const auto stamp = build_stamp();
-  for (const std::string part :
+  for (const std::string &part :
        {id, std::string("ITK "), std::string("VTK "), std::string("CGAL ")})
     softface_tests::check_equal("build stamp names '" +
                                   (part == id ? std::string("the build ID") :

@@ -17,8 +17,9 @@ Each --sliver-bound (Scene/Patient/Mesh/Sliver bound; default: the scene's
 own) is a case: a higher bound makes the optimisation run longer. Several
 --softface NAME=PATH are run side by side (each condition for each binary
 before the next condition). Writes doc/results/busy_machine.md (+ .csv and
-.png; --name for another name). Needs Debian's python3-matplotlib and g++
-(for the compile).
+.png; --name for another name): the table, the plot and a count of meshes per
+case; a section headed "## What the numbers show" in the page, written by
+hand, is kept. Needs Debian's python3-matplotlib and g++ (for the compile).
 """
 
 import argparse
@@ -51,6 +52,9 @@ int main()
   return int(d.number_of_vertices() + r.number_of_vertices());
 }
 """
+
+# The heading of the page's hand-written reading, kept when it is re-made.
+NOTES = "## What the numbers show"
 
 CONDITIONS = [("idle", "idle"), ("idle, again", "idle"),
               ("3 busy processes", "spin3"), ("7 busy processes", "spin7"),
@@ -239,8 +243,8 @@ def write(rows, args, binaries, bounds):
           "conditions one after the other, its `mesh.vtu` compared by md5 "
           "sum with the first idle run's of the same case. The CT and "
           "labels are made once per case and reused. *mesh stage s* is "
-          "wall-clock time; the busy conditions share the 2 cores with the "
-          "load.", "",
+          f"wall-clock time; the busy conditions share the {os.cpu_count()} "
+          "cores with the load.", "",
           f"Command: `{command}`; commit {commit}; "
           f"{os.cpu_count()} cores, {cpu}.", "",
           f"![mesh stage time per condition]({args.name}.png)", "",
@@ -269,8 +273,15 @@ def write(rows, args, binaries, bounds):
         md += ["", "Errors:", ""]
         md += [f"- sliver bound {r['sliver bound']}, {r['softface']}, "
                f"{r['condition']}: {r['error']}" for r in errors]
+    # What the numbers show, written by hand below its heading, stays.
+    notes = ""
+    if os.path.exists(base + ".md"):
+        with open(base + ".md") as f:
+            old = f.read()
+        if NOTES in old:
+            notes = old[old.index(NOTES):]
     with open(base + ".md", "w") as f:
-        f.write("\n".join(md) + "\n")
+        f.write("\n".join(md) + "\n" + ("\n" + notes if notes else ""))
     plot(rows, base + ".png")
     print("busy_machine: wrote", base + ".md,", base + ".csv and",
           base + ".png")

@@ -10,8 +10,10 @@
 #include <dlfcn.h>
 #include <elf.h>
 #include <link.h>
+#include <unistd.h>
 #include <vtkVersion.h>
 
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -26,23 +28,36 @@ namespace softface
     {
       struct Search
       {
-        const void *base = nullptr;
+        ElfW(Addr) address = 0; ///< of a function in the library sought
         std::string id;
       };
 
-      // The NT_GNU_BUILD_ID note among the program headers of the object
-      // loaded at search->base.
+      // The NT_GNU_BUILD_ID note of the loaded object one of whose loaded
+      // segments holds search->address.
       int
       find_build_id(struct dl_phdr_info *info, std::size_t, void *data)
       {
         auto *search = static_cast<Search *>(data);
-        if (reinterpret_cast<const void *>(info->dlpi_addr) != search->base)
+        bool  holds  = false;
+        for (int i = 0; i < info->dlpi_phnum; ++i)
+          {
+            const auto &segment = info->dlpi_phdr[i];
+            const auto  start   = info->dlpi_addr + segment.p_vaddr;
+            holds |= segment.p_type == PT_LOAD && search->address >= start &&
+                     search->address < start + segment.p_memsz;
+          }
+        if (!holds)
           return 0;
         for (int i = 0; i < info->dlpi_phnum; ++i)
           {
             const auto &segment = info->dlpi_phdr[i];
             if (segment.p_type != PT_NOTE)
               continue;
+            // Note fields are padded to the segment's alignment (4 or 8).
+            const std::size_t align = segment.p_align == 8 ? 8 : 4;
+            const auto        pad   = [align](const std::size_t n) {
+              return (n + align - 1) & ~(align - 1);
+            };
             const char *p =
               reinterpret_cast<const char *>(info->dlpi_addr + segment.p_vaddr);
             const char *const end = p + segment.p_memsz;
@@ -50,7 +65,9 @@ namespace softface
               {
                 const auto *note = reinterpret_cast<const ElfW(Nhdr) *>(p);
                 const char *name = p + sizeof(ElfW(Nhdr));
-                const char *desc = name + ((note->n_namesz + 3) & ~3u);
+                const char *desc = name + pad(note->n_namesz);
+                if (desc + note->n_descsz > end)
+                  break;
                 if (note->n_type == NT_GNU_BUILD_ID && note->n_namesz == 4 &&
                     std::memcmp(name, "GNU", 4) == 0)
                   {
@@ -62,7 +79,7 @@ namespace softface
                     search->id = hex.str();
                     return 1;
                   }
-                p = desc + ((note->n_descsz + 3) & ~3u);
+                p = desc + pad(note->n_descsz);
               }
           }
         return 1;
@@ -93,13 +110,15 @@ namespace softface
     std::string
     library_build_id(std::string *library_file)
     {
-      Dl_info info;
-      if (dladdr(reinterpret_cast<const void *>(&library_build_id), &info) == 0)
-        return "unknown";
+      Dl_info    info;
+      const auto self = reinterpret_cast<const void *>(&library_build_id);
+      if (dladdr(self, &info) == 0 || info.dli_fname == nullptr ||
+          info.dli_fname[0] == '\0')
+        return "";
       if (library_file != nullptr)
         *library_file = info.dli_fname;
       Search search;
-      search.base = info.dli_fbase;
+      search.address = reinterpret_cast<ElfW(Addr)>(self);
       dl_iterate_phdr(find_build_id, &search);
       return search.id.empty() ? file_hash(info.dli_fname) : search.id;
     }
@@ -107,9 +126,16 @@ namespace softface
     std::string
     build_stamp()
     {
-      return "softface patient library " + library_build_id() + ", ITK " +
-             itk_version() + ", VTK " + vtkVersion::GetVTKVersion() +
-             ", CGAL " + CGAL_VERSION_STR + "\n";
+      // No build to tell: a stamp no later run repeats, so nothing is reused.
+      std::string id = library_build_id();
+      if (id.empty())
+        id = "unknown (process " + std::to_string(getpid()) + ", " +
+             std::to_string(
+               std::chrono::steady_clock::now().time_since_epoch().count()) +
+             ")";
+      return "softface patient library " + id + ", ITK " + itk_version() +
+             ", VTK " + vtkVersion::GetVTKVersion() + ", CGAL " +
+             CGAL_VERSION_STR + "\n";
     }
   } // namespace Patient
 } // namespace softface
