@@ -93,13 +93,12 @@ namespace softface
         std::ifstream in(file, std::ios::binary);
         std::uint64_t hash = 1469598103934665603ULL;
         char          buffer[1 << 16];
-        while (in.read(buffer, sizeof(buffer)) || in.gcount() > 0)
+        while (in)
           {
+            in.read(buffer, sizeof(buffer));
             for (std::streamsize k = 0; k < in.gcount(); ++k)
               hash = (hash ^ static_cast<unsigned char>(buffer[k])) *
                      1099511628211ULL;
-            if (!in)
-              break;
           }
         std::ostringstream hex;
         hex << "fnv1a-" << std::hex << hash;

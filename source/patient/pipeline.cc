@@ -159,33 +159,35 @@ namespace softface
         return (work / name).string();
       };
 
-      // 1. The CT: the phantom's acquisition, or the patient's file.
-      StageClock  clock;
-      CTVolume    ct;
-      std::string ct_stamp;
+      // 1. The CT: the phantom's acquisition, or the patient's file. Every
+      // stamp starts with the build that makes the stages (which changes
+      // with the phantom's anatomy and the mesher's code alike).
+      const std::string build = build_stamp();
+      StageClock        clock;
+      CTVolume          ct;
+      std::string       ct_stamp;
       if (prm.ct_volume.empty())
         {
           const auto &p = prm.phantom;
-          ct_stamp      = build_stamp() + stamp_of("phantom",
-                                              Phantom::anatomy_version,
-                                              p.voxel_size,
-                                              p.field_of_view[0],
-                                              p.field_of_view[1],
-                                              p.field_of_view[2],
-                                              p.centre[0],
-                                              p.centre[1],
-                                              p.centre[2],
-                                              p.face_width,
-                                              p.face_height,
-                                              p.soft_tissue_thickness,
-                                              p.mandible_length,
-                                              p.mandible_angle,
-                                              p.profile,
-                                              p.jaw_discrepancy,
-                                              p.noise,
-                                              p.blur,
-                                              p.metal_streaks,
-                                              p.seed);
+          ct_stamp      = build + stamp_of("phantom",
+                                      p.voxel_size,
+                                      p.field_of_view[0],
+                                      p.field_of_view[1],
+                                      p.field_of_view[2],
+                                      p.centre[0],
+                                      p.centre[1],
+                                      p.centre[2],
+                                      p.face_width,
+                                      p.face_height,
+                                      p.soft_tissue_thickness,
+                                      p.mandible_length,
+                                      p.mandible_angle,
+                                      p.profile,
+                                      p.jaw_discrepancy,
+                                      p.noise,
+                                      p.blur,
+                                      p.metal_streaks,
+                                      p.seed);
           if (prm.reuse &&
               up_to_date(work / "ct.stamp",
                          ct_stamp,
@@ -226,8 +228,7 @@ namespace softface
             {
               throw Error(std::string("Scene/Patient/CT volume: ") + e.what());
             }
-          ct_stamp =
-            build_stamp() + stamp_of("file", file_stamp(prm.ct_volume));
+          ct_stamp = build + stamp_of("file", file_stamp(prm.ct_volume));
           log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
               << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
         }
@@ -353,7 +354,7 @@ namespace softface
       // 3. Bone parts and the tetrahedral mesh of the region of interest.
       clock = StageClock();
       std::ostringstream inputs;
-      inputs << std::setprecision(17) << "mesh " << mesher_version << '\n';
+      inputs << std::setprecision(17) << "mesh\n";
       for (const auto &seed : segments)
         inputs << seed.name << ' ' << seed.point[0] << ' ' << seed.point[1]
                << ' ' << seed.point[2] << '\n';

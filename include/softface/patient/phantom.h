@@ -79,10 +79,6 @@ namespace softface
 
       explicit Phantom(const PhantomParameters &parameters);
 
-      /// Changes whenever the anatomy does (so that a saved acquisition of
-      /// an older phantom is not taken for this one's).
-      static constexpr unsigned int anatomy_version = 6;
-
       /// Implicit skin surface: about the signed distance, negative inside.
       double
       skin_function(const Vec3 &x) const;

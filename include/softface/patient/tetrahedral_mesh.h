@@ -48,9 +48,6 @@ namespace softface
       unsigned int seed                  = 1; ///< CGAL's random numbers
     };
 
-    /// Changes whenever the mesher does (see Phantom::anatomy_version).
-    constexpr unsigned int mesher_version = 8;
-
     /// Boundary ids of a patient mesh.
     constexpr unsigned int skin_boundary_id = 1;
     constexpr unsigned int cut_boundary_id  = 2;
