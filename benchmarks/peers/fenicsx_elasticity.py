@@ -1,16 +1,20 @@
 #!/usr/bin/python3
 """FEniCSx (dolfinx 0.5.2) peer of softface's `linear fem` / `cg amg` (and, with --law svk, of
-`nonlinear fem` with St. Venant-Kirchhoff) on a make_mesh.py cube.
+`nonlinear fem` with St. Venant-Kirchhoff, with --law neo-hooke of its compressible Neo-Hooke) on
+a make_mesh.py cube.
 
 Vector P1, E = 3000, nu = 0.46; u = 0 on facets tagged 1 ("fixed"), u = (0, 0, 6) on every vertex
 of a cell tagged 2 ("bone"). Linear: CG + hypre BoomerAMG, rigid-body near-nullspace on the
 matrix, rtol 1e-10. SVK: dolfinx's Newton solver from u = 0, its first iteration the linear
 (tangent) predictor as in softface, stopping when the residual is below 1e-10 of the force that
 predictor balances (softface's criterion), each Newton step solved by the same CG + BoomerAMG to
-rtol 1e-6 (softface's `Linear tolerance`). Runs on one MPI rank as plain `python3`, or on N with `mpirun -np
+rtol 1e-6 (softface's `Linear tolerance`). Neo-Hooke: the same stored energy as softface's,
+W = mu/2 (tr C - 3) - mu ln J + lambda/2 (ln J)^2, its residual and tangent derived by UFL; the
+bone's displacement ramped in --steps equal steps (ln J needs J > 0 on the way), each step's Newton
+to the same residual bound with MUMPS (direct) linear solves. Runs on one MPI rank as plain `python3`, or on N with `mpirun -np
 N`; the timings are rank 0's, the peak memory the sum over the ranks.
 
-usage: fenicsx_elasticity.py MESH.msh OUT.csv [--law linear|svk]
+usage: fenicsx_elasticity.py MESH.msh OUT.csv [--law linear|svk|neo-hooke] [--steps N]
 Prints one JSON line: phase timings (s), CG iterations (in all), Newton iterations, residual;
 writes x,y,z,ux,uy,uz for all vertices to OUT.csv.
 """
@@ -29,8 +33,9 @@ from dolfinx.io import gmshio
 from dolfinx.nls.petsc import NewtonSolver
 
 msh_file, out_csv = sys.argv[1], sys.argv[2]
-law = sys.argv[4] if len(sys.argv) > 4 and sys.argv[3] == "--law" else "linear"
-assert law in ("linear", "svk"), f"unknown --law {law}"
+options = dict(zip(sys.argv[3::2], sys.argv[4::2]))
+law, load_steps = options.get("--law", "linear"), int(options.get("--steps", 10))
+assert law in ("linear", "svk", "neo-hooke"), f"unknown --law {law}"
 E, NU, UZ = 3000.0, 0.46, 6.0
 comm = MPI.COMM_WORLD
 t = {"import": time.perf_counter() - T0}
@@ -63,12 +68,19 @@ sigma = lambda w: 2 * mu * eps(w) + lam * ufl.tr(eps(w)) * ufl.Identity(3)
 if law == "linear":
     a = fem.form(ufl.inner(sigma(u), eps(v)) * ufl.dx)
     L = fem.form(ufl.inner(fem.Constant(mesh, PETSc.ScalarType((0, 0, 0))), v) * ufl.dx)
-else:
+elif law == "svk":
     uh = fem.Function(V)
     F = ufl.Identity(3) + ufl.grad(uh)
     Egl = 0.5 * (F.T * F - ufl.Identity(3))
     S = lam * ufl.tr(Egl) * ufl.Identity(3) + 2 * mu * Egl
     residual = ufl.inner(F * S, ufl.grad(v)) * ufl.dx
+    tangent = ufl.derivative(residual, uh, u)
+else:
+    uh = fem.Function(V)
+    F = ufl.variable(ufl.Identity(3) + ufl.grad(uh))
+    J = ufl.det(F)
+    W = mu / 2 * (ufl.tr(F.T * F) - 3) - mu * ufl.ln(J) + lam / 2 * ufl.ln(J) ** 2
+    residual = ufl.inner(ufl.diff(W, F), ufl.grad(v)) * ufl.dx
     tangent = ufl.derivative(residual, uh, u)
 t["forms"] = tic() - s
 
@@ -80,8 +92,9 @@ fixed_dofs = fem.locate_dofs_topological(V, tdim - 1, facet_tags.find(1))
 mesh.topology.create_connectivity(tdim, 0)
 bone_vertices = dmesh.compute_incident_entities(mesh, cell_tags.find(2), tdim, 0)
 bone_dofs = fem.locate_dofs_topological(V, 0, bone_vertices)
+bone_motion = fem.Constant(mesh, PETSc.ScalarType((0, 0, UZ)))
 bcs = [fem.dirichletbc(np.zeros(3, dtype=PETSc.ScalarType), fixed_dofs, V),
-       fem.dirichletbc(np.array([0, 0, UZ], dtype=PETSc.ScalarType), bone_dofs, V)]
+       fem.dirichletbc(bone_motion, bone_dofs, V)]
 t["boundary conditions"] = tic() - s
 
 def near_nullspace(V):
@@ -187,13 +200,28 @@ else:
     solver.convergence_criterion = "residual"
     solver.rtol, solver.atol, solver.max_it = 0.0, 1e-10 * reference_force, 50
     solver.error_on_nonconvergence = False    # report it in the JSON line instead of a traceback
-    solver.A.setNearNullSpace(near_nullspace(V))
-    cg_amg(solver.krylov_solver, 1e-6)
+    if law == "svk":
+        solver.A.setNearNullSpace(near_nullspace(V))
+        cg_amg(solver.krylov_solver, 1e-6)
+    else:
+        opts, prefix = PETSc.Options(), solver.krylov_solver.getOptionsPrefix() or ""
+        opts[prefix + "ksp_type"], opts[prefix + "pc_type"] = "preonly", "lu"
+        opts[prefix + "pc_factor_mat_solver_type"] = "mumps"
+        solver.krylov_solver.setFromOptions()
     linear_its = [0]
     solver.krylov_solver.setMonitor(lambda ksp, it, rnorm: linear_its.__setitem__(0, linear_its[0] + (it > 0)))
     t["setup"] = tic() - s
     s = tic()
-    newton_its, converged = solver.solve(uh)
+    if law == "svk":
+        newton_its, converged = solver.solve(uh)
+    else:
+        newton_its = 0
+        for step in range(1, load_steps + 1):
+            bone_motion.value = (0, 0, UZ * step / load_steps)
+            its_step, converged = solver.solve(uh)
+            newton_its += its_step
+            if not converged:
+                break
     uh.x.scatter_forward()
     t["solve"] = tic() - s
     reason, its, relres = int(converged), linear_its[0], float("nan")
