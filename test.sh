@@ -6,8 +6,9 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 source scripts/bootstrap.sh
-# Chromium for the browser test of softface serve (tests/serve_browser.sh).
-softface_ensure_packages chromium
+# Chromium for the browser test of softface serve (tests/serve_browser.sh); numpy and
+# pydicom for the tests that write CT volumes and DICOM series themselves.
+softface_ensure_packages chromium python3-numpy python3-pydicom
 if [ "${1:-}" = "--sanitize" ]; then
   # AddressSanitizer and UndefinedBehaviorSanitizer on softface itself (not on
   # deal.II or its libraries), run on the bad inputs and the fuzz sample: what

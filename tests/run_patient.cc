@@ -1,9 +1,9 @@
 // A phantom patient through the whole simulator (seed 3.1-3.3 end to end):
 // CT -> labels -> surfaces -> bone parts -> mesh -> join points -> all four
-// models (tests/run_patient.prm). Mesh_3 does not give the same mesh from run
-// to run, so the counts are checked against ranges, not printed. Every model
-// runs; the join points move as planned (the largest |u| is at least the
-// mandible's 5 mm; free tissue such as the lips may move more); the converged
+// models (tests/run_patient.prm). The counts are printed and checked against
+// ranges (another CGAL may mesh differently). Every model runs; its join
+// points move exactly as planned, its free points by a few millimetres; the
+// converged
 // mass tensor model equals linear FEM to 1e-6 mm on the patient's mesh (it
 // solves the same equations); nonlinear FEM and the mass spring model stay
 // within a millimetre or two of it at these motions.
@@ -23,15 +23,14 @@ SOFTFACE_TEST(run_patient)
     simulator.run(softface_tests::source_file("run_patient.prm"), out, err);
   softface_tests::check_equal("exit code", exit_code, 0);
   const Scene &scene = simulator.scene();
-  softface_tests::check_within("tetrahedra",
-                               scene.triangulation.n_active_cells(),
-                               4000,
-                               16000);
+  softface_tests::check_within(
+    "tetrahedra", scene.triangulation.n_active_cells(), 4000, 16000, 9);
   for (unsigned int s = 0; s < scene.segments.size(); ++s)
     softface_tests::check_within(scene.segments[s].name + ": join points",
                                  scene.n_join_vertices(s),
                                  20,
-                                 1e9);
+                                 1e9,
+                                 9);
 
   std::map<std::string, const Report::ModelRun *> run_of;
   for (const auto &run : simulator.runs())
@@ -40,16 +39,38 @@ SOFTFACE_TEST(run_patient)
       run_of[run.model] = &run;
     }
   softface_tests::check_equal("models run", run_of.size(), 4);
+  // Join points where the plan puts them; the free tissue's largest motion
+  // is the models' own answer (the lips may move more than the 5 mm of the
+  // mandible, but not four times as much).
+  const Vector<double> planned =
+    simulator.plannings().plans.at(0).planning.prescribed_displacement(scene);
   for (const auto &[name, run] : run_of)
-    softface_tests::check_within(name + ": max |u| (mm)",
-                                 run->max_displacement,
-                                 5. - 1e-9,
-                                 20.);
+    {
+      double join_error = 0., free_largest = 0.;
+      for (const auto &dofs : scene.vertex_dofs())
+        {
+          Tensor<1, 3> u, e;
+          for (unsigned int c = 0; c < 3; ++c)
+            {
+              u[c] = run->displacement[dofs[c]];
+              e[c] = u[c] - planned[dofs[c]];
+            }
+          if (scene.join_dofs()[dofs[0]])
+            join_error = std::max(join_error, e.norm());
+          else
+            free_largest = std::max(free_largest, u.norm());
+        }
+      softface_tests::check_below(
+        name + ": join points, max |u - planned| (mm)", join_error, 1e-9);
+      softface_tests::check_within(name + ": free points, max |u| (mm)",
+                                   free_largest,
+                                   0.5,
+                                   20.);
+    }
   const auto &mtm = *run_of.at("mass tensor");
-  softface_tests::check_within("max |u_mass tensor - u_linear fem| (mm)",
-                               mtm.difference.max,
-                               0.,
-                               1e-6);
+  softface_tests::check_below("max |u_mass tensor - u_linear fem| (mm)",
+                              mtm.difference.max,
+                              1e-6);
   softface_tests::check_within("max |u_nonlinear fem - u_linear fem| (mm)",
                                run_of.at("nonlinear fem")->difference.max,
                                0.,

@@ -14,7 +14,12 @@ bone's displacement ramped in --steps equal steps (ln J needs J > 0 on the way),
 to the same residual bound with MUMPS (direct) linear solves. Runs on one MPI rank as plain `python3`, or on N with `mpirun -np
 N`; the timings are rank 0's, the peak memory the sum over the ranks.
 
+With --tissues ID:E:NU,... each physical volume ID (a tissue) takes its own Young's modulus and
+Poisson's ratio (softface's Effects/heterogeneous tissue); volume 2 stays the bone.
+
 usage: fenicsx_elasticity.py MESH.msh OUT.csv [--law linear|svk|neo-hooke] [--steps N]
+                             [--tissues ID:E:NU,...] [--solver cg|direct]
+(--solver: the linear law's solver, CG + BoomerAMG by default or MUMPS.)
 Prints one JSON line: phase timings (s), CG iterations (in all), Newton iterations, residual;
 writes x,y,z,ux,uy,uz for all vertices to OUT.csv.
 """
@@ -62,6 +67,17 @@ t["mesh read"] = tic() - s
 s = tic()
 V = fem.VectorFunctionSpace(mesh, ("Lagrange", 1))
 mu, lam = E / (2 * (1 + NU)), E * NU / ((1 + NU) * (1 - 2 * NU))
+if "--tissues" in options:
+    # Lame's coefficients per cell (DG0), from each cell's physical volume.
+    Q = fem.FunctionSpace(mesh, ("DG", 0))
+    mu_cells, lam_cells = fem.Function(Q), fem.Function(Q)
+    mu_cells.x.array[:], lam_cells.x.array[:] = mu, lam
+    for tissue in options["--tissues"].split(","):
+        tag, E_t, nu_t = (float(w) for w in tissue.split(":"))
+        cells = cell_tags.find(int(tag))
+        mu_cells.x.array[cells] = E_t / (2 * (1 + nu_t))
+        lam_cells.x.array[cells] = E_t * nu_t / ((1 + nu_t) * (1 - 2 * nu_t))
+    mu, lam = mu_cells, lam_cells
 u, v = ufl.TrialFunction(V), ufl.TestFunction(V)
 eps = lambda w: ufl.sym(ufl.grad(w))
 sigma = lambda w: 2 * mu * eps(w) + lam * ufl.tr(eps(w)) * ufl.Identity(3)
@@ -160,7 +176,12 @@ if law == "linear":
     s = tic()
     ksp = PETSc.KSP().create(mesh.comm)
     ksp.setOperators(A)
-    cg_amg(ksp, 1e-10)
+    if options.get("--solver", "cg") == "direct":
+        ksp.setType("preonly")
+        ksp.getPC().setType("lu")
+        ksp.getPC().setFactorSolverType("mumps")
+    else:
+        cg_amg(ksp, 1e-10)
     ksp.setUp()
     t["preconditioner"] = tic() - s
 

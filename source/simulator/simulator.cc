@@ -25,6 +25,7 @@
 #include <softface/patient/backend.h>
 #include <softface/patient/vec3_parameter.h>
 #include <softface/serve/parameters.h>
+#include <softface/simulator/input_files.h>
 #include <softface/simulator/output.h>
 #include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
@@ -582,6 +583,9 @@ namespace softface
           filename,
           output.directory + "/input.prm",
           std::filesystem::copy_options::overwrite_existing);
+        // Every parameter, the input files as absolute paths: the file runs
+        // again from the output folder (or any other).
+        make_input_files_absolute(prm, input_directory);
         std::ofstream expanded(output.directory + "/parameters.prm");
         prm.print_parameters(expanded, ParameterHandler::PRM);
       }
