@@ -36,12 +36,15 @@ REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 LEFT_OUT = {"clang_format": "checks the code's layout, which a mutation may change"}
 
 
-def log(message, stream=[None]):
+LOG = None          # WORK/log.txt once the work folder exists
+
+
+def log(message):
     line = time.strftime("%H:%M:%S ") + message
     print(line, flush=True)
-    if stream[0] is not None:
-        stream[0].write(line + "\n")
-        stream[0].flush()
+    if LOG is not None:
+        LOG.write(line + "\n")
+        LOG.flush()
 
 
 def run(command, **kwargs):
@@ -214,7 +217,8 @@ def main():
     args = parser.parse_args()
 
     os.makedirs(args.work, exist_ok=True)
-    log.__defaults__[0][0] = open(os.path.join(args.work, "log.txt"), "a")
+    global LOG
+    LOG = open(os.path.join(args.work, "log.txt"), "a")
     with open(os.path.join(REPO, "benchmarks", "mutation", "mutations.json")) as f:
         mutations = json.load(f)
     if args.only:
