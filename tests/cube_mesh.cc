@@ -79,14 +79,14 @@ SOFTFACE_TEST(cube_mesh)
         3);
       softface_tests::check_below("|volume - L^3| / L^3",
                                   std::abs(volume - L * L * L) / (L * L * L),
-                                  1e-9);
+                                  1e-11);
       softface_tests::check_below(
         "|boundary area - 6 L^2| / 6 L^2 (conforming)",
         std::abs(boundary_area - 6 * L * L) / (6 * L * L),
-        1e-9);
+        1e-11);
       softface_tests::check_below("|inner material volume - s^3| / s^3",
                                   std::abs(inner_volume - 1000.) / 1000.,
-                                  1e-9);
+                                  1e-11);
       softface_tests::check_equal("inner cells' vertex coordinates outside "
                                   "the inner box",
                                   inner_vertices_outside,

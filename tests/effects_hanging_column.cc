@@ -136,7 +136,7 @@ SOFTFACE_TEST(effects_hanging_column)
     softface_tests::check_below(
       "on: reference fem (P2, linear law), relative error",
       relative_error(scene, u, g),
-      1e-9);
+      1e-12);
   }
 
   // The mass tensor model's converged answer is linear FEM's.

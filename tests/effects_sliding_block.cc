@@ -9,13 +9,18 @@
 // stress). Glued to the base instead, its bottom cannot slide. Unilateral
 // contact pressed gives the same answer; lifted (the plate moving up), the
 // block leaves the base and moves rigidly with the plate, exactly, in every
-// model (the springs too).
+// model (the springs too). Turned as a whole (block, plate and base motions),
+// so that the base's normal has three non-zero components and every term of
+// a sliding constraint counts, the answer is the flat one turned.
 
 #include <softface/core/planning.h>
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_spring.h>
 #include <softface/models/mass_tensor.h>
 #include <softface/models/nonlinear_fem.h>
+
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/physics/transformations.h>
 
 #include "effects.h"
 #include "tests.h"
@@ -28,8 +33,19 @@ namespace
 
   // The block with its bottom face (boundary id 13) on the base segment,
   // the top (12) on the plate; sliding or glued.
+  // A rotation about an oblique axis: the turned base's normal has no zero
+  // component.
+  const Tensor<2, 3> turn =
+    Physics::Transformations::Rotations::rotation_matrix_3d(
+      Tensor<1, 3>(
+        {1. / std::sqrt(14.), 2. / std::sqrt(14.), 3. / std::sqrt(14.)}),
+      0.5);
+
   void
-  make_scene(Scene &scene, const bool sliding, const bool unilateral)
+  make_scene(Scene              &scene,
+             const bool          sliding,
+             const bool          unilateral,
+             const Tensor<2, 3> &rotation = unit_symmetric_tensor<3>())
   {
     softface_tests::make_block(scene, 3000, 1);
     scene.material.poissons_ratio = 0.;
@@ -37,6 +53,9 @@ namespace
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary() && std::abs(face->center()[2]) < 1e-9)
           face->set_boundary_id(13);
+    GridTools::transform(
+      [&](const Point<3> &x) { return Point<3>(rotation * x); },
+      scene.triangulation);
     scene.segments = {{"plate", {}, {12}, {}}, {"base", {}, {13}, {}}};
     scene.setup();
     if (sliding)
@@ -47,16 +66,18 @@ namespace
   }
 
   Vector<double>
-  planned(const Scene &scene, const double d)
+  planned(const Scene        &scene,
+          const double        d,
+          const Tensor<2, 3> &rotation = unit_symmetric_tensor<3>())
   {
     Planning planning;
     planning.set_motion(0,
-                        RigidMotion(softface_tests::vec(s, 0., -d),
+                        RigidMotion(rotation * softface_tests::vec(s, 0., -d),
                                     softface_tests::vec(0., 0., 1.),
                                     0.,
                                     Point<3>()));
     planning.set_motion(1,
-                        RigidMotion(softface_tests::vec(0., 0., t),
+                        RigidMotion(rotation * softface_tests::vec(0., 0., t),
                                     softface_tests::vec(0., 0., 1.),
                                     0.,
                                     Point<3>()));
@@ -64,23 +85,26 @@ namespace
   }
 
   // Largest distance from u = (s, 0, t + (-d - t) z / L) (lifted: the
-  // plate's motion (s, 0, -d) everywhere).
+  // plate's motion (s, 0, -d) everywhere), turned by the scene's rotation:
+  // u(R x) = R u_flat(x).
   double
   error(const Scene          &scene,
         const Vector<double> &u,
         const double          d,
-        const bool            lifted)
+        const bool            lifted,
+        const Tensor<2, 3>   &rotation = unit_symmetric_tensor<3>())
   {
     double e = 0.;
     for (unsigned int v = 0; v < scene.n_vertices(); ++v)
       {
-        const auto  &dofs = scene.vertex_dofs()[v];
-        const double z    = scene.triangulation.get_vertices()[v][2];
-        const double uz   = lifted ? -d : t + (-d - t) * z / L;
-        e                 = std::max({e,
-                                      std::abs(u[dofs[0]] - s),
-                                      std::abs(u[dofs[1]]),
-                                      std::abs(u[dofs[2]] - uz)});
+        const auto    &dofs = scene.vertex_dofs()[v];
+        const Point<3> x =
+          Point<3>(transpose(rotation) * scene.triangulation.get_vertices()[v]);
+        const Tensor<1, 3> exact =
+          rotation *
+          softface_tests::vec(s, 0., lifted ? -d : t + (-d - t) * x[2] / L);
+        for (unsigned int c = 0; c < 3; ++c)
+          e = std::max(e, std::abs(u[dofs[c]] - exact[c]));
       }
     return e;
   }
@@ -132,12 +156,15 @@ namespace
   }
 
   Vector<double>
-  solve(const std::string &name, const Scene &scene, const double d)
+  solve(const std::string  &name,
+        const Scene        &scene,
+        const double        d,
+        const Tensor<2, 3> &rotation = unit_symmetric_tensor<3>())
   {
     const auto m = model(name);
     m->setup(scene);
     Vector<double> u;
-    m->solve(planned(scene, d), u);
+    m->solve(planned(scene, d, rotation), u);
     return u;
   }
 } // namespace
@@ -190,6 +217,20 @@ SOFTFACE_TEST(effects_sliding_block)
     softface_tests::print("on: mass spring, max |u - closed form| (mm)",
                           error(scene, u, d, false),
                           2);
+  }
+
+  // Turned: the flat answer turned, for every model that holds the closed
+  // form.
+  {
+    Scene turned;
+    make_scene(turned, true, false, turn);
+    for (const std::string name :
+         {"linear fem", "mass tensor", "nonlinear fem"})
+      softface_tests::check_below(
+        "turned 0.5 rad about (1, 2, 3): " + name +
+          ", max |u - closed form turned| (mm)",
+        error(turned, solve(name, turned, d, turn), d, false, turn),
+        1e-7);
   }
 
   // Only the base moves (up by t, the plate held): every model must carry

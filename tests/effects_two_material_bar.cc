@@ -108,7 +108,7 @@ SOFTFACE_TEST(effects_two_material_bar)
   // Off: one tissue.
   softface_tests::check_below("off: linear fem, max error (mm)",
                               max_error(scene, solve_linear(), homogeneous),
-                              1e-9);
+                              1e-12);
   softface_tests::check_below("off: mass tensor, max error (mm)",
                               max_error(scene, solve_mtm(), homogeneous),
                               1e-6);
@@ -126,16 +126,16 @@ SOFTFACE_TEST(effects_two_material_bar)
   const Vector<double> u_fem = solve_linear();
   softface_tests::check_below("on: linear fem, max error (mm)",
                               max_error(scene, u_fem, exact),
-                              1e-9);
+                              1e-12);
   const double u_interface = interface_displacement(scene, u_fem);
   softface_tests::check_below("on: linear fem, stress left / closed form - 1",
                               std::abs(E1 * u_interface / (L / 2.) / sigma -
                                        1.),
-                              1e-9);
+                              1e-12);
   softface_tests::check_below(
     "on: linear fem, stress right / closed form - 1",
     std::abs(E2 * (delta - u_interface) / (L / 2.) / sigma - 1.),
-    1e-9);
+    1e-12);
   softface_tests::check_below("on: mass tensor, max error (mm)",
                               max_error(scene, solve_mtm(), exact),
                               1e-6);
@@ -150,7 +150,7 @@ SOFTFACE_TEST(effects_two_material_bar)
     softface_tests::check_below(
       "on: reference fem (P2, linear law), max error (mm)",
       max_error(scene, u, exact),
-      1e-9);
+      1e-12);
   }
 
   // A pull of a tenth of a per cent: the large-deformation laws differ from
@@ -221,5 +221,5 @@ SOFTFACE_TEST(effects_two_material_bar)
   softface_tests::check_below(
     "two tissues (nu 0.1, 0.3) - one tissue (nu 0.3), max |difference| (mm)",
     u_two.linfty_norm(),
-    1e-9);
+    1e-12);
 }

@@ -1,4 +1,5 @@
-// Mesh files: the generated cube written by deal.II's GridOut as legacy VTK,
+// Mesh files: the generated cube written by deal.II's GridOut as legacy VTK
+// (and turned here into legacy VTK 5.1's OFFSETS / CONNECTIVITY layout),
 // gmsh .msh and serialised .vtu, and read back by Mesh::read_file, keeps its
 // cells, vertices, material ids and boundary ids, and gives the same linear
 // FEM answer as the cube it came from. (gmsh 4.1 files from gmsh itself are
@@ -13,6 +14,7 @@
 #include "tests.h"
 
 #include <fstream>
+#include <sstream>
 
 using namespace softface;
 
@@ -47,6 +49,50 @@ namespace
         }
     return result;
   }
+
+  // GridOut's legacy VTK (version 3.0: "CELLS n size", then per cell its
+  // point count and points) in the layout of version 5.1: "CELLS n+1 m",
+  // OFFSETS and CONNECTIVITY.
+  void
+  write_vtk_5(const std::string &version_3, std::ostream &out)
+  {
+    std::istringstream in(version_3);
+    std::string        line;
+    std::getline(in, line);
+    out << "# vtk DataFile Version 5.1\n";
+    while (std::getline(in, line))
+      {
+        if (line.rfind("CELLS ", 0) != 0)
+          {
+            out << line << '\n';
+            continue;
+          }
+        std::istringstream header(line.substr(6));
+        unsigned int       n_cells = 0;
+        header >> n_cells;
+        std::vector<unsigned int> offsets = {0}, connectivity;
+        for (unsigned int c = 0; c < n_cells; ++c)
+          {
+            unsigned int k = 0;
+            in >> k;
+            for (unsigned int v = 0; v < k; ++v)
+              {
+                unsigned int point = 0;
+                in >> point;
+                connectivity.push_back(point);
+              }
+            offsets.push_back(connectivity.size());
+          }
+        std::getline(in, line); // the rest of the last cell's line
+        out << "CELLS " << offsets.size() << ' ' << connectivity.size()
+            << "\nOFFSETS vtktypeint64\n";
+        for (const unsigned int o : offsets)
+          out << o << '\n';
+        out << "CONNECTIVITY vtktypeint64\n";
+        for (const unsigned int v : connectivity)
+          out << v << '\n';
+      }
+  }
 } // namespace
 
 SOFTFACE_TEST(mesh_file_formats)
@@ -69,12 +115,21 @@ SOFTFACE_TEST(mesh_file_formats)
   GridOutFlags::Msh msh_flags(/*write_faces=*/true);
   grid_out.set_flags(msh_flags);
 
-  for (const std::string extension : {"vtk", "msh", "vtu"})
+  for (const std::string format : {"vtk", "vtk 5.1", "msh", "vtu"})
     {
-      const std::string filename = "mesh_file_formats_cube." + extension;
+      const std::string extension = format.substr(0, 3);
+      const std::string filename =
+        "mesh_file_formats_cube" +
+        std::string(format == "vtk 5.1" ? "_5" : "") + "." + extension;
       {
         std::ofstream out(filename);
-        if (extension == "vtk")
+        if (format == "vtk 5.1")
+          {
+            std::ostringstream version_3;
+            grid_out.write_vtk(original.triangulation, version_3);
+            write_vtk_5(version_3.str(), out);
+          }
+        else if (extension == "vtk")
           grid_out.write_vtk(original.triangulation, out);
         else if (extension == "msh")
           grid_out.write_msh(original.triangulation, out);
@@ -87,16 +142,16 @@ SOFTFACE_TEST(mesh_file_formats)
       scene.segments         = original.segments;
       scene.setup();
 
-      softface_tests::check_equal(extension + ": cells",
+      softface_tests::check_equal(format + ": cells",
                                   scene.triangulation.n_active_cells(),
                                   original.triangulation.n_active_cells());
-      softface_tests::check_equal(extension + ": vertices",
+      softface_tests::check_equal(format + ": vertices",
                                   scene.n_vertices(),
                                   original.n_vertices());
-      softface_tests::check_equal(extension + ": join points of 'fixed'",
+      softface_tests::check_equal(format + ": join points of 'fixed'",
                                   scene.n_join_vertices(0),
                                   original.n_join_vertices(0));
-      softface_tests::check_equal(extension + ": join points of 'bone'",
+      softface_tests::check_equal(format + ": join points of 'bone'",
                                   scene.n_join_vertices(1),
                                   original.n_join_vertices(1));
 
@@ -111,12 +166,12 @@ SOFTFACE_TEST(mesh_file_formats)
           else
             max = std::max(max, (d - r->second).norm());
         }
-      softface_tests::check_equal(extension +
+      softface_tests::check_equal(format +
                                     ": vertices not at an original vertex",
                                   unmatched + (reference.size() - u.size()),
                                   0);
-      softface_tests::check_below(extension + ": max |u - u_original| (mm)",
+      softface_tests::check_below(format + ": max |u - u_original| (mm)",
                                   max,
-                                  1e-9);
+                                  1e-12);
     }
 }

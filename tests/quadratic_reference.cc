@@ -5,7 +5,7 @@
 //    whole solve of 'reference fem' with 'Polynomial degree = 1';
 // 2. a homogeneous deformation u = G x prescribed on every join point is an
 //    equilibrium of every hyperelastic law, and lies in the quadratic space:
-//    the degree-2 model must return it to 1e-8 at the vertices and, through
+//    the degree-2 model must return it to 1e-12 at the vertices and, through
 //    PointEvaluation of its quadratic field, at points inside the cells
 //    (Neo-Hooke with direct and cg amg, the linear law with direct); the
 //    P1 field interpolated there must too.
@@ -88,7 +88,7 @@ SOFTFACE_TEST(quadratic_reference)
     softface_tests::check_below(
       "reference fem, degree 1 vs nonlinear fem: relative difference",
       softface_tests::relative_difference(u_quadrature, u_closed),
-      1e-10);
+      1e-12);
   }
 
   // 2. Homogeneous deformation with the quadratic model.
@@ -153,16 +153,16 @@ SOFTFACE_TEST(quadratic_reference)
         }
       softface_tests::check_below(name + ": vertex values: max |u - G x|",
                                   vertex_error,
-                                  1e-8);
+                                  1e-12);
       softface_tests::check_below(name +
                                     ": quadratic field inside cells: max |u "
                                     "- G x|",
                                   point_error,
-                                  1e-8);
+                                  1e-12);
       softface_tests::check_below(name + ": P1 interpolation inside cells: max "
                                          "|u - G x|",
                                   p1_error,
-                                  1e-8);
+                                  1e-12);
     }
 
   // A point outside the mesh is refused with its number.

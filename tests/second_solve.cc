@@ -49,13 +49,13 @@ SOFTFACE_TEST(second_solve)
         name + ": second plan vs a fresh model's, "
                "relative",
         softface_tests::relative_difference(second, reference),
-        1e-8);
+        1e-12);
       softface_tests::check_below(name +
                                     ": first plan again vs its first answer, "
                                     "relative",
                                   softface_tests::relative_difference(again,
                                                                       first),
-                                  1e-8);
+                                  1e-12);
     }
 
   set_warm_start(true);
