@@ -130,8 +130,10 @@ namespace softface
                       Patterns::Bool(),
                       "Also write each predicted skin's signed distances to "
                       "the post-operative skin as skin_<model>_distance.csv "
-                      "(one value per skin point, in the order of "
-                      "skin_preoperative.ply), for scripts.");
+                      "(one row per skin point, in the order of "
+                      "skin_preoperative.ply; with exact correspondences "
+                      "also the exact distance and its normal component), "
+                      "for scripts.");
     prm.declare_entry("Masked boxes",
                       "",
                       Patterns::Anything(),
@@ -200,6 +202,8 @@ namespace softface
     if (!parameters.post_operative_skin.empty())
       post_operative =
         read_skin(parameters.post_operative_skin, "Skin/Post-operative skin");
+    if (!parameters.truth_scene.empty())
+      find_exact_correspondences(out);
     const auto mesh = SurfaceMapping::VolumeMesh::from_triangulation(
       scene.triangulation, parameters.mesh_skin_boundary_ids);
     if (mesh.skin.triangles.empty())
@@ -264,6 +268,40 @@ namespace softface
   }
 
   void
+  SkinOutput::find_exact_correspondences(std::ostream &out)
+  {
+    // The truth scene's run wrote the skin it moved beside its prediction.
+    const std::string truth_skin =
+      std::filesystem::path(parameters.post_operative_skin)
+        .replace_filename("skin_preoperative.ply")
+        .string();
+    std::string why;
+    if (!std::filesystem::exists(truth_skin))
+      why = truth_skin + " does not exist";
+    else
+      {
+        const auto moved = read_skin(truth_skin, "Skin/Post-operative skin");
+        if (moved.points.size() != skin.points.size() ||
+            post_operative.points.size() != skin.points.size())
+          why = "the truth's skin has " + std::to_string(moved.points.size()) +
+                " points, this one " + std::to_string(skin.points.size());
+        else
+          for (unsigned int i = 0; i < skin.points.size() && why.empty(); ++i)
+            if (moved.points[i].distance(skin.points[i]) > 1e-4)
+              why = "point " + std::to_string(i) + " of the truth's skin is " +
+                    "not this skin's";
+      }
+    if (!why.empty())
+      {
+        out << "  exact correspondences: none (" << why << ")" << std::endl;
+        return;
+      }
+    exact_normals = SurfaceMapping::point_normals(post_operative);
+    out << "  exact correspondences: the truth moved the same "
+        << skin.points.size() << " skin points" << std::endl;
+  }
+
+  void
   SkinOutput::map(const Scene               &scene,
                   const Vector<double>      &displacement,
                   std::vector<Tensor<1, 3>> &skin_displacement,
@@ -318,6 +356,28 @@ namespace softface
               correspond(predicted, mappings[k].in_reach, row);
             fields.push_back({"signed distance", 1, distance_values});
           }
+        std::vector<double> exact_values, normal_values;
+        if (!exact_normals.empty())
+          {
+            for (unsigned int i = 0; i < skin.points.size(); ++i)
+              {
+                const Tensor<1, 3> e =
+                  predicted.points[i] - post_operative.points[i];
+                exact_values.push_back(e.norm());
+                normal_values.push_back(e * exact_normals[i]);
+              }
+            row.exact           = true;
+            row.exact_distances = Validation::statistics(exact_values,
+                                                         skin.points,
+                                                         parameters.mask,
+                                                         mappings[k].in_reach);
+            row.exact_normal    = Validation::statistics(normal_values,
+                                                      skin.points,
+                                                      parameters.mask,
+                                                      mappings[k].in_reach);
+            fields.push_back({"exact distance", 1, exact_values});
+            fields.push_back({"exact normal distance", 1, normal_values});
+          }
         const std::string name =
           directory + "/skin_" + Output::file_name_of(model) +
           (parameters.methods.size() > 1 ? "_" + short_name(row.method) : "");
@@ -330,9 +390,19 @@ namespace softface
         if (parameters.write_distances && !distance_values.empty())
           {
             auto csv = open_output_file(name + "_distance.csv");
-            csv << "signed distance mm\n" << std::setprecision(6);
-            for (const double d : distance_values)
-              csv << d << '\n';
+            csv << "signed distance mm"
+                << (exact_values.empty() ? "" :
+                                           ",exact distance mm,exact normal "
+                                           "distance mm")
+                << '\n'
+                << std::setprecision(6);
+            for (unsigned int i = 0; i < distance_values.size(); ++i)
+              {
+                csv << distance_values[i];
+                if (!exact_values.empty())
+                  csv << ',' << exact_values[i] << ',' << normal_values[i];
+                csv << '\n';
+              }
           }
         rows.push_back(row);
       }
@@ -407,7 +477,9 @@ namespace softface
            "max |d| mm,p50 mm,p90 mm,p95 mm,correspondence points,"
            "correspondence s,correspondence mean mm,correspondence p50 mm,"
            "correspondence p90 mm,correspondence p95 mm,"
-           "correspondence max mm\n";
+           "correspondence max mm,exact mean mm,exact p50 mm,exact p90 mm,"
+           "exact p95 mm,exact max mm,exact normal mean mm,"
+           "exact normal variance mm2\n";
     csv << std::setprecision(10);
     out << "\nSkin (" << skin.points.size() << " points"
         << (post_operative.points.empty() ? "" :
@@ -422,6 +494,8 @@ namespace softface
           << "p90" << std::setw(9) << "p95" << std::setw(9) << "max";
     if (!post_operative.points.empty() && parameters.correspondence_points > 0)
       out << std::setw(14) << "corr. p50" << std::setw(10) << "corr. p90";
+    if (!exact_normals.empty())
+      out << std::setw(14) << "exact p50" << std::setw(11) << "exact p90";
     out << '\n';
     for (const Row &row : rows)
       {
@@ -449,6 +523,14 @@ namespace softface
               << row.correspondence.max_absolute;
         else
           csv << ",,,,,,,";
+        if (row.exact)
+          csv << ',' << row.exact_distances.mean << ','
+              << row.exact_distances.p50 << ',' << row.exact_distances.p90
+              << ',' << row.exact_distances.p95 << ','
+              << row.exact_distances.max_absolute << ','
+              << row.exact_normal.mean << ',' << row.exact_normal.variance;
+        else
+          csv << ",,,,,,,";
         csv << '\n';
         out << std::left << std::setw(16) << row.model << std::setw(18)
             << SurfaceMapping::name_of(row.method) << std::right << std::fixed
@@ -463,6 +545,9 @@ namespace softface
         if (row.corresponded)
           out << std::setw(14) << row.correspondence.p50 << std::setw(10)
               << row.correspondence.p90;
+        if (row.exact)
+          out << std::setw(14) << row.exact_distances.p50 << std::setw(11)
+              << row.exact_distances.p90;
         out << '\n';
       }
   }

@@ -121,7 +121,19 @@ namespace softface
       Validation::Statistics correspondence;
       unsigned int           correspondence_points  = 0;
       double                 correspondence_seconds = 0.;
+      /// Exact correspondences (a truth that moved the same skin points):
+      /// |predicted - true| and its component along the post-operative
+      /// normal.
+      bool                   exact = false;
+      Validation::Statistics exact_distances;
+      Validation::Statistics exact_normal;
     };
+
+    /// Whether the truth scene that made the post-operative skin moved the
+    /// same skin points (its skin_preoperative.ply equals this skin): if
+    /// so, fills exact_normals; says which on @p out.
+    void
+    find_exact_correspondences(std::ostream &out);
 
     /// TPS-RPM between the measured region of @p predicted and the
     /// post-operative points near it; fills the row's correspondence.
@@ -130,10 +142,15 @@ namespace softface
                const std::vector<bool>       &in_reach,
                Row                           &row) const;
 
-    const SkinParameters                    &parameters;
-    std::string                              directory;
-    SurfaceMapping::Surface                  skin;
-    SurfaceMapping::Surface                  post_operative;
+    const SkinParameters   &parameters;
+    std::string             directory;
+    SurfaceMapping::Surface skin;
+    SurfaceMapping::Surface post_operative;
+    /// Outward unit normals at the post-operative skin's points, if the
+    /// truth that made it moved the same points as this skin's (exact
+    /// correspondences: point i of the one is point i of the other);
+    /// empty otherwise.
+    std::vector<Tensor<1, 3>>                exact_normals;
     std::vector<SurfaceMapping::SkinMapping> mappings;
     std::vector<double>                      step_a_seconds;
     std::vector<Row>                         rows;
