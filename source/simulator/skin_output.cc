@@ -116,15 +116,21 @@ namespace softface
                       Patterns::Integer(1, 1000),
                       "... and fewer than this many edges away on the skin "
                       "(the seed's y = 5).");
-    prm.declare_entry("Correspondence points",
-                      "2000",
-                      Patterns::Integer(0),
+    prm.declare_entry("Correspondences",
+                      "true",
+                      Patterns::Bool(),
                       "With a post-operative skin: the distances between "
-                      "corresponding points as well (seed 3.5.1: TPS-RPM, "
-                      "non-rigid matching by deterministic annealing), on at "
-                      "most this many points of each skin (a farthest-point "
-                      "subsample of the measured region). 0: closest-point "
-                      "distances only.");
+                      "corresponding points as well (seed 3.5.1: a TPS-RPM "
+                      "variant matches every measured point of a predicted "
+                      "skin to the post-operative skin's surface). false: "
+                      "closest-point distances only.");
+    prm.declare_entry("Correspondence fit points",
+                      "10000",
+                      Patterns::Integer(1),
+                      "The correspondences' thin-plate spline is fitted to "
+                      "at most this many points of the measured region (a "
+                      "fixed pseudo-random subset); every measured point is "
+                      "then matched.");
     prm.declare_entry("Write distances",
                       "false",
                       Patterns::Bool(),
@@ -181,11 +187,12 @@ namespace softface
       mesh_skin_boundary_ids.insert(id);
     if (mesh_skin_boundary_ids.empty() && !patient_skin.empty())
       mesh_skin_boundary_ids.insert(Patient::skin_boundary_id);
-    mapping.reach         = prm.get_double("Reach");
-    mapping.radius        = prm.get_double("Search radius");
-    mapping.rings         = prm.get_integer("Connectivity rings");
-    write_distances       = prm.get_bool("Write distances");
-    correspondence_points = prm.get_integer("Correspondence points");
+    mapping.reach             = prm.get_double("Reach");
+    mapping.radius            = prm.get_double("Search radius");
+    mapping.rings             = prm.get_integer("Connectivity rings");
+    write_distances           = prm.get_bool("Write distances");
+    correspondences           = prm.get_bool("Correspondences");
+    correspondence_fit_points = prm.get_integer("Correspondence fit points");
     mask =
       Validation::Mask::parse(prm.get("Masked boxes"), "Skin/Masked boxes");
     prm.leave_subsection();
@@ -352,7 +359,7 @@ namespace softface
                                                    parameters.mask,
                                                    mappings[k].in_reach);
             row.measured  = true;
-            if (parameters.correspondence_points > 0)
+            if (parameters.correspondences)
               correspond(predicted, mappings[k].in_reach, row);
             fields.push_back({"signed distance", 1, distance_values});
           }
@@ -414,56 +421,33 @@ namespace softface
                          Row                           &row) const
   {
     Timer timer;
-    // The measured region of the prediction, and the post-operative points
-    // within 10 mm of its bounding box (the rest of the head is far).
-    std::vector<Point<3>> measured;
-    Point<3>              low, high;
+    // The measured region of the prediction, matched to the whole
+    // post-operative surface.
+    std::vector<unsigned int> measured;
     for (unsigned int i = 0; i < predicted.points.size(); ++i)
       if (in_reach[i] && !parameters.mask.masked(skin.points[i]))
-        {
-          const Point<3> &p = predicted.points[i];
-          if (measured.empty())
-            low = high = p;
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              low[d]  = std::min(low[d], p[d] - 10.);
-              high[d] = std::max(high[d], p[d] + 10.);
-            }
-          measured.push_back(p);
-        }
-    std::vector<Point<3>> near;
-    for (const Point<3> &p : post_operative.points)
-      {
-        bool inside = true;
-        for (unsigned int d = 0; d < 3; ++d)
-          inside = inside && p[d] >= low[d] && p[d] <= high[d];
-        if (inside)
-          near.push_back(p);
-      }
-    if (measured.empty() || near.empty())
+        measured.push_back(i);
+    if (measured.empty())
       return;
-    const auto subsampled = [&](const std::vector<Point<3>> &points) {
-      Eigen::MatrixX3d all(points.size(), 3);
-      for (unsigned int i = 0; i < points.size(); ++i)
-        for (unsigned int d = 0; d < 3; ++d)
-          all(i, d) = points[i][d];
-      const auto rows =
-        Validation::subsample(all, parameters.correspondence_points);
-      Eigen::MatrixX3d m(rows.size(), 3);
-      for (unsigned int i = 0; i < rows.size(); ++i)
-        m.row(i) = all.row(rows[i]);
-      return m;
-    };
-    const Eigen::MatrixX3d source = subsampled(measured);
-    const Eigen::MatrixX3d target = subsampled(near);
-    const auto             result = Validation::tps_rpm(source, target, {});
-    std::vector<double>    distances(result.distance.size());
-    std::vector<Point<3>>  where(result.distance.size());
-    for (unsigned int i = 0; i < distances.size(); ++i)
-      distances[i] = result.distance[i];
+    Eigen::MatrixX3d source(measured.size(), 3);
+    for (unsigned int k = 0; k < measured.size(); ++k)
+      for (unsigned int d = 0; d < 3; ++d)
+        source(k, d) = predicted.points[measured[k]][d];
+    Validation::TpsRpmParameters tps_rpm;
+    tps_rpm.fit_points = parameters.correspondence_fit_points;
+    const auto result  = Validation::tps_rpm(source, post_operative, tps_rpm);
+    // Points without a counterpart on the post-operative skin (outliers)
+    // are left out of the statistics.
+    std::vector<double> distances;
+    for (Eigen::Index k = 0; k < result.distance.size(); ++k)
+      if (result.match_weight[k] >= 0.5)
+        distances.push_back(result.distance[k]);
+    if (distances.empty())
+      return;
+    std::vector<Point<3>> where(distances.size());
     row.correspondence         = Validation::statistics(distances, where, {});
     row.corresponded           = true;
-    row.correspondence_points  = source.rows();
+    row.correspondence_points  = distances.size();
     row.correspondence_seconds = timer.wall_time();
   }
 
@@ -492,7 +476,7 @@ namespace softface
     if (!post_operative.points.empty())
       out << std::setw(9) << "mean" << std::setw(9) << "p50" << std::setw(9)
           << "p90" << std::setw(9) << "p95" << std::setw(9) << "max";
-    if (!post_operative.points.empty() && parameters.correspondence_points > 0)
+    if (!post_operative.points.empty() && parameters.correspondences)
       out << std::setw(14) << "corr. p50" << std::setw(10) << "corr. p90";
     if (!exact_normals.empty())
       out << std::setw(14) << "exact p50" << std::setw(11) << "exact p90";

@@ -43,8 +43,10 @@ namespace softface
     /// A scene whose run makes the post-operative skin (a phantom's truth):
     /// 'Post-operative skin' names a .prm file.
     std::string truth_scene;
-    /// TPS-RPM correspondences on at most this many points (0: none).
-    unsigned int correspondence_points = 2000;
+    /// TPS-RPM correspondences of every measured point, the spline fitted
+    /// to at most correspondence_fit_points of them.
+    bool         correspondences           = true;
+    unsigned int correspondence_fit_points = 10000;
     /// Also write each skin's signed distances as CSV (for scripts).
     bool                                write_distances = false;
     std::set<types::boundary_id>        mesh_skin_boundary_ids;
@@ -135,8 +137,8 @@ namespace softface
     void
     find_exact_correspondences(std::ostream &out);
 
-    /// TPS-RPM between the measured region of @p predicted and the
-    /// post-operative points near it; fills the row's correspondence.
+    /// TPS-RPM from the measured region of @p predicted to the
+    /// post-operative surface; fills the row's correspondence.
     void
     correspond(const SurfaceMapping::Surface &predicted,
                const std::vector<bool>       &in_reach,

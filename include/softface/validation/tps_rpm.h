@@ -1,6 +1,8 @@
 #ifndef softface_validation_tps_rpm_h
 #define softface_validation_tps_rpm_h
 
+#include <softface/mapping/triangle_search.h>
+
 #include <Eigen/Dense>
 
 #include <vector>
@@ -13,110 +15,99 @@ namespace softface
   namespace Validation
   {
     /**
-     * The knobs of tps_rpm(). Lengths are in mm; a temperature T is the
-     * variance (mm^2) of the Gaussian exp(-d^2 / (2 T)) that weighs a
-     * candidate match at distance d.
+     * The knobs of tps_rpm(). Lengths in mm; a temperature T is the variance
+     * (mm^2) of the Gaussian exp(-d^2 / (2 T)) that weighs a point's match
+     * at distance d against the outlier class.
      */
     struct TpsRpmParameters
     {
       /// T at the start (mm^2); <= 0: automatic, (0.2 r)^2 with r the RMS
-      /// distance of the source points from their centroid (about 8 mm on
-      /// a 60 x 80 x 100 mm ellipsoid, 11 mm on a face): the first matches
-      /// then reach beyond displacements of several mm.
+      /// distance of the source points from their centroid (about 11 mm on
+      /// a face): the first fits are stiff and reach far.
       double initial_temperature = 0.;
-      /// T at the end (mm^2, > 0), well below the squared point spacing, so
-      /// that each source point ends matched to one target point.
+      /// T at the end (mm^2, > 0): a point farther than about 3 sqrt(T)
+      /// from the target after the warp ends an outlier.
       double final_temperature = 0.01;
       /// T is multiplied by this after each temperature's iterations, in
       /// (0, 1).
-      double annealing_rate = 0.9;
-      /// Softassign + TPS iterations at each temperature (>= 1).
-      unsigned int iterations_per_temperature = 3;
-      /// Weight (mm) of the TPS bending energy at the initial temperature,
-      /// relative to the mean squared misfit (mm^2); annealed geometrically
-      /// with T down to lambda_final.
+      double annealing_rate = 0.8;
+      /// Match + spline iterations at each temperature (>= 1).
+      unsigned int iterations_per_temperature = 2;
+      /// Weight (mm) of the spline's bending energy at the initial
+      /// temperature, relative to the mean squared misfit (mm^2); annealed
+      /// geometrically with T down to lambda_final.
       double lambda_initial = 100.;
-      /// Weight (mm) of the TPS bending energy at the final temperature.
+      /// Weight (mm) of the bending energy at the final temperature.
       double lambda_final = 0.01;
-      /// Weight (mm^2) of |A - I|^2, A the linear part of the TPS, at the
-      /// initial temperature; annealed like lambda. Keeps the early, blurred
-      /// matches from shrinking or turning the source, and skin that the
-      /// target lacks from dragging the rest along.
-      double affine_lambda_initial = 100.;
-      /// Weight (mm^2) of |A - I|^2 at the final temperature. Not much
-      /// smaller: with none, two samplings of one surface slide (turn) the
-      /// source along it.
-      double affine_lambda_final = 1.;
-      /// The TPS has at most this many control points (>= 1), a farthest-
-      /// point subsample of the source, so that a fit is a small dense
-      /// solve; fewer than 5 leave an affine map.
+      /// Spline centres (>= 1): a farthest-point subsample of the fitted
+      /// points; fewer than 5 leave an affine map.
       unsigned int control_points = 300;
-      /// Entry of the outlier row and column of the match matrix, next to
-      /// the entries exp(-d^2 / (2 T)), in (0, 1]: a point farther than
-      /// sqrt(-2 T ln w) from every point of the other set ends an outlier
-      /// (the default exp(-4.5): 3 sqrt(T)).
+      /// The spline is fitted to at most this many source points (>= 1), a
+      /// fixed pseudo-random subset; every source point is then warped by
+      /// it and matched.
+      unsigned int fit_points = 10000;
+      /// The outlier class's weight next to exp(-d^2 / (2 T)), in (0, 1]
+      /// (default exp(-4.5): an outlier beyond 3 sqrt(T)).
       double outlier_weight = 0.011108996538242306;
-      /// Candidate matches are the target points within this many sqrt(T)
-      /// of a warped source point (> 0): the match matrix is sparse.
-      double search_radius = 3.5;
-      /// At most this many row/column normalisation sweeps per softassign
-      /// (>= 1).
-      unsigned int sinkhorn_iterations = 30;
-      /// Softassign stops when every row sum is within this of 1 (> 0; the
-      /// column sums are 1 after each sweep).
-      double sinkhorn_tolerance = 0.01;
     };
 
-    /// What tps_rpm() found.
+    /// What tps_rpm() found, one row per source point.
     struct TpsRpmResult
     {
-      /// The source points moved by the final TPS.
+      /// The source points moved by the final spline.
       Eigen::MatrixX3d warped_source;
-      /// For each source point, its corresponding target point: the target
-      /// point closest to its warped position (warped_source) at the end.
-      /// Meaningful where match_weight is near 1.
+      /// The point of the target surface closest to the warped source
+      /// point: the source point's corresponding point.
       Eigen::MatrixX3d correspondence;
-      /// |source_i - correspondence_i| (mm).
+      /// |source - correspondence| (mm).
       Eigen::VectorXd distance;
-      /// Each source point's inlier mass in the final match matrix, in [0,
-      /// 1]: near 1 matched, near 0 an outlier (no target point within
-      /// about 3 sqrt(final T) of its warped position, e.g. skin that the
-      /// other scan does not cover). Where the target samples the surface
-      /// at other points than the source, most points end near 0 at a small
-      /// final temperature: then it does not tell outliers.
+      /// g / (g + w) with g = exp(-d^2 / (2 T)), d = |warped -
+      /// correspondence|, at the final temperature: near 1 for a point
+      /// matched, near 0 for an outlier (no counterpart on the target); 0
+      /// where the correspondence lies on the target's rim (an edge of one
+      /// triangle only: the surface ends there).
       Eigen::VectorXd match_weight;
-      /// Total softassign + TPS iterations (TPS fits).
-      unsigned int iterations = 0;
-      /// The temperature of the last iteration (mm^2).
-      double final_temperature = 0.;
+      unsigned int    iterations        = 0;
+      unsigned int    n_fit_points      = 0;
+      unsigned int    n_control_points  = 0;
+      double          final_temperature = 0.;
     };
 
     /**
-     * Non-rigid correspondences from @p source to @p target (one point a
-     * row, mm) by TPS-RPM (Chui and Rangarajan 2000, 2003): deterministic
-     * annealing of a softassign match matrix with an outlier row and
-     * column, alternating with a thin-plate spline fit of the source to
-     * its matches. The variant for large surfaces (Mollemans et al. 2007
-     * used one): the match matrix only holds target points within
-     * search_radius sqrt(T) of each warped source point; the TPS is a
-     * regularised least-squares fit over all source points with a
-     * subsample of them as control points; a point's pull on the TPS is
-     * its inlier mass. Memory: the N x control_points design matrix of the
-     * TPS and the sparse match matrix.
+     * Corresponding points of a point set on a continuous surface by the
+     * variant of TPS-RPM (Chui and Rangarajan 2003) that Mollemans et al.
+     * 2007 (3.5.1) used after Tondeur et al.: every source point (a
+     * predicted skin's) is matched to the target surface (the post-operative
+     * skin's triangles), not to its vertices. A thin-plate spline warps the
+     * source towards the target by deterministic annealing: at temperature
+     * T each fitted point's goal is its closest point on the target,
+     * weighted against an outlier class by exp(-d^2 / (2 T)) (the softassign
+     * over a continuous surface, at its zero-width limit), while the
+     * spline's bending weight falls with T. A point whose closest point
+     * lies on the target's rim (where an open surface ends) does not pull.
+     * The spline, stiff at first,
+     * carries motion along the surface, which closest points cannot see,
+     * from where the surface has shape; at the end every source point is
+     * warped and matched to its closest target point.
      *
-     * Where the target is the same points moved, the correspondences are
-     * recovered exactly. Where it samples the surface at other points, the
-     * motion along the surface is barely in the data (only in the point
-     * density): the correspondences then lie on the right surface but may
-     * be some mm off along it.
+     * The skins must be registered (no rigid motion between them): motion
+     * along a smooth surface is found only as far as the spline carries it.
+     * Two samplings of one surface match to the surface's own distance
+     * (chords of its triangles); on a phantom the percentiles of the
+     * distances come within a few percent of the exact ones
+     * (doc/results/patients.md).
      *
-     * Deterministic. Throws an Error on empty or non-finite points and on
-     * nonsense parameters.
+     * Costs: a closest-point query (an R-tree of the target's triangles)
+     * per fitted point per iteration, on Threads::n_threads() threads; the
+     * spline's fit_points x (control_points + 4) design matrix; at the end
+     * one spline evaluation and one query per source point. Deterministic
+     * on any number of threads. Throws an Error on empty or non-finite
+     * points, a target without triangles and nonsense parameters.
      */
     TpsRpmResult
-    tps_rpm(const Eigen::MatrixX3d &source,
-            const Eigen::MatrixX3d &target,
-            const TpsRpmParameters &parameters = TpsRpmParameters());
+    tps_rpm(const Eigen::MatrixX3d        &source,
+            const SurfaceMapping::Surface &target,
+            const TpsRpmParameters        &parameters = TpsRpmParameters());
 
     /**
      * At most @p n of @p points, well spread: farthest-point sampling from
