@@ -436,11 +436,11 @@ namespace softface
     Validation::TpsRpmParameters tps_rpm;
     tps_rpm.fit_points = parameters.correspondence_fit_points;
     const auto result  = Validation::tps_rpm(source, post_operative, tps_rpm);
-    // Points without a counterpart on the post-operative skin (outliers)
-    // are left out of the statistics.
+    // Points without a counterpart on the post-operative skin (their match
+    // lies on its rim: the scan ends there) are left out of the statistics.
     std::vector<double> distances;
     for (Eigen::Index k = 0; k < result.distance.size(); ++k)
-      if (result.match_weight[k] >= 0.5)
+      if (!result.beyond_rim[k])
         distances.push_back(result.distance[k]);
     if (distances.empty())
       return;

@@ -321,6 +321,7 @@ namespace softface
             inlier_weight((closest.row(a) - all_warped.row(a)).squaredNorm(),
                           t_final,
                           p.outlier_weight);
+      result.beyond_rim        = on_rim;
       result.n_fit_points      = fitted.rows();
       result.n_control_points  = control.rows();
       result.final_temperature = t_final;

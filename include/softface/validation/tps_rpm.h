@@ -67,10 +67,13 @@ namespace softface
       /// where the correspondence lies on the target's rim (an edge of one
       /// triangle only: the surface ends there).
       Eigen::VectorXd match_weight;
-      unsigned int    iterations        = 0;
-      unsigned int    n_fit_points      = 0;
-      unsigned int    n_control_points  = 0;
-      double          final_temperature = 0.;
+      /// Whether the correspondence lies on the target's rim: the point has
+      /// no counterpart on the target (which ends there).
+      std::vector<bool> beyond_rim;
+      unsigned int      iterations        = 0;
+      unsigned int      n_fit_points      = 0;
+      unsigned int      n_control_points  = 0;
+      double            final_temperature = 0.;
     };
 
     /**
