@@ -190,9 +190,10 @@ def exact_against_closest(data, row_of, results):
           "after Chabanas et al. 2004) without a figure. Shape-function "
           "mapping; 50 / 90 / 95 % percentiles (mm), mean over the "
           "patients; *closest / exact*: the closest-point percentile as a "
-          "fraction of the exact one; *TPS-RPM*: the distances between the "
-          "point-to-point TPS-RPM correspondences on a 2000-point subsample "
-          "of each skin (`Skin/Correspondence points`).\n",
+          "fraction of the exact one; *TPS-RPM*: the distances to the "
+          "corresponding points the seed's metric finds (every measured "
+          "point matched to the post-operative surface by the TPS-RPM "
+          "variant, doc/skin.md).\n",
           "| model | closest 50 / 90 / 95 % | exact 50 / 90 / 95 % | closest "
           "/ exact, 50 / 90 / 95 % | TPS-RPM 50 / 90 / 95 % | patients |",
           "|---|---|---|---|---|---|"]
