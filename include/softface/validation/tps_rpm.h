@@ -96,9 +96,9 @@ namespace softface
      * The skins must be registered (no rigid motion between them): motion
      * along a smooth surface is found only as far as the spline carries it.
      * Two samplings of one surface match to the surface's own distance
-     * (chords of its triangles); on a phantom the percentiles of the
-     * distances come within a few percent of the exact ones
-     * (doc/results/patients.md).
+     * (chords of its triangles); under a known smooth warp the percentiles
+     * of the distances come close to the exact ones, the partners point by
+     * point less so (tests/validation_tps_rpm.cc, doc/skin.md).
      *
      * Costs: a closest-point query (an R-tree of the target's triangles)
      * per fitted point per iteration, on Threads::n_threads() threads; the
