@@ -48,6 +48,17 @@ if url is None:
 host, port = url.group(1), int(url.group(2))
 
 
+def read_until(s, marker):
+    """What the server sends until @p marker has arrived (or it closes)."""
+    answer = b""
+    while marker not in answer:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        answer += chunk
+    return answer
+
+
 def request(method, path, headers=None, body=b""):
     """The status of one HTTP/1.1 request."""
     lines = [f"{method} {path} HTTP/1.1", f"Host: {host}:{port}", "Connection: close"]
@@ -56,12 +67,7 @@ def request(method, path, headers=None, body=b""):
         lines.append(f"Content-Length: {len(body)}")
     with socket.create_connection((host, port), timeout=30) as s:
         s.sendall(("\r\n".join(lines) + "\r\n\r\n").encode() + body)
-        answer = b""
-        while b"\r\n" not in answer:
-            chunk = s.recv(4096)
-            if not chunk:
-                break
-            answer += chunk
+        answer = read_until(s, b"\r\n")
     return int(answer.split(b" ")[1]) if answer.startswith(b"HTTP/1.1 ") else answer[:40]
 
 
@@ -73,12 +79,7 @@ def websocket(path="/replan", origin=None):
                f"Origin: {origin or f'http://{host}:{port}'}"]
     s = socket.create_connection((host, port), timeout=60)
     s.sendall(("\r\n".join(headers) + "\r\n\r\n").encode())
-    answer = b""
-    while b"\r\n\r\n" not in answer:
-        chunk = s.recv(4096)
-        if not chunk:
-            break
-        answer += chunk
+    answer = read_until(s, b"\r\n\r\n")
     status = int(answer.split(b" ")[1]) if answer.startswith(b"HTTP/1.1 ") else None
     if status != 101:
         s.close()
