@@ -11,10 +11,13 @@
 // tensor model's exact distances are no smaller than its closest-point
 // distances (percentile by percentile, since they are point by point) and
 // equal |predicted - true| computed here from the two written skins. The
-// skin is a sphere in the tissue around the cube's bone.
+// per-point distance files agree with skin.csv, and each point's TPS-RPM
+// partner lies on the post-operative skin. The skin is a sphere in the
+// tissue around the cube's bone.
 
 #include <deal.II/base/utilities.h>
 
+#include <softface/mapping/triangle_search.h>
 #include <softface/patient/backend.h>
 #include <softface/simulator/simulator.h>
 
@@ -145,6 +148,71 @@ SOFTFACE_TEST(run_skin_truth)
           name + ": correspondence max / max |u - u_linear|",
           corresponding / mtm_difference,
           1.);
+      // The per-point file (Write distances): each point's correspondence
+      // distance is the length of its vector to the partner, the partner
+      // lies on the post-operative surface, and the largest of each column
+      // is skin.csv's.
+      {
+        const std::string model =
+          row.at("model") == "linear fem" ? "linear_fem" : "mass_tensor";
+        const auto points =
+          read_csv("run_skin_truth_output/skin_" + model + "_distance.csv");
+        const auto predicted = Patient::backend().read_surface(
+          "run_skin_truth_output/skin_" + model + ".ply");
+        const auto truth = Patient::backend().read_surface(
+          "run_skin_truth_output/skin_postoperative.ply");
+        SurfaceMapping::Surface post_operative;
+        for (const auto &q : truth.points)
+          post_operative.points.emplace_back(q[0], q[1], q[2]);
+        post_operative.triangles = truth.triangles;
+        const SurfaceMapping::TriangleSearch search(post_operative);
+        softface_tests::check_equal(name + ": distance file rows",
+                                    points.size(),
+                                    predicted.points.size());
+        double length_error = 0., off_surface = 0., largest_exact = 0.,
+               largest_correspondence = 0.;
+        for (unsigned int i = 0; i < points.size(); ++i)
+          {
+            const double distance =
+              std::stod(points[i].at("correspondence distance mm"));
+            Point<3> partner;
+            for (unsigned int d = 0; d < 3; ++d)
+              partner[d] =
+                predicted.points[i][d] +
+                std::stod(points[i].at(std::string("to correspondence ") +
+                                       "xyz"[d] + " mm"));
+            Point<3> p;
+            for (unsigned int d = 0; d < 3; ++d)
+              p[d] = predicted.points[i][d];
+            length_error =
+              std::max(length_error, std::abs(partner.distance(p) - distance));
+            off_surface =
+              std::max(off_surface, search.closest(partner).distance);
+            largest_correspondence = std::max(largest_correspondence, distance);
+            largest_exact =
+              std::max(largest_exact,
+                       std::stod(points[i].at("exact distance mm")));
+          }
+        // The file holds 6 digits of values below 1 mm; the .ply single
+        // precision (40 mm x 2^-24 per coordinate).
+        softface_tests::check_below(
+          name + ": max | |to correspondence| - correspondence distance | mm",
+          length_error,
+          1e-6);
+        softface_tests::check_below(
+          name + ": partner's largest distance to the post-operative skin mm",
+          off_surface,
+          1e-5);
+        softface_tests::check_below(
+          name + ": |largest correspondence distance - skin.csv's| mm",
+          std::abs(largest_correspondence -
+                   std::stod(row.at("correspondence max mm"))),
+          1e-6);
+        softface_tests::check_below(
+          name + ": |largest exact distance - skin.csv's| mm",
+          std::abs(largest_exact - std::stod(row.at("exact max mm"))),
+          1e-6);
+      }
       // The post-operative .ply stores single precision: 40 mm x 2^-24.
       if (row.at("model") == "linear fem")
         softface_tests::check_below(name + ": max |distance| mm",

@@ -3,12 +3,15 @@
 // shape functions of the tetrahedron at the point, or inverse distances to
 // the skin points that mesh vertices were matched to); step B sums them.
 
+#include <deal.II/base/timer.h>
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
 #include <softface/mapping/skin_mapping.h>
+
+#include <deal.II/base/timer.h>
 
 #include <algorithm>
 #include <limits>
@@ -122,6 +125,12 @@ namespace softface
                            const Surface    &skin_surface,
                            const Parameters &parameters)
     {
+      SkinMapping mapping;
+      Timer       timer;
+      const auto  lap = [&](const std::string &part) {
+        mapping.step_a_parts.emplace_back(part, timer.wall_time());
+        timer.restart();
+      };
       using Box = std::pair<BoundingBox<3>, unsigned int>;
       std::vector<Box> boxes;
       boxes.reserve(mesh.cells.size());
@@ -136,19 +145,25 @@ namespace softface
         }
       const auto           cell_tree = pack_rtree(boxes);
       const TriangleSearch skin_search(mesh.skin);
+      lap("trees");
 
-      SkinMapping      mapping;
-      std::vector<Box> candidates;
-      for (const Point<3> &p : skin_surface.points)
+      // First the containing tetrahedra; the points outside the mesh are
+      // projected afterwards (timed apart).
+      std::vector<Box>                   candidates;
+      std::vector<unsigned int>          cell_of(skin_surface.points.size(),
+                                        numbers::invalid_unsigned_int);
+      std::vector<std::array<double, 4>> lambda_of(skin_surface.points.size());
+      for (unsigned int i = 0; i < skin_surface.points.size(); ++i)
         {
+          const Point<3> &p = skin_surface.points[i];
           // The containing tetrahedron: the candidate with the largest
           // smallest barycentric coordinate, if that is not negative.
           candidates.clear();
           cell_tree.query(boost::geometry::index::intersects(p),
                           std::back_inserter(candidates));
+          double                best = -std::numeric_limits<double>::max();
           unsigned int          cell = numbers::invalid_unsigned_int;
           std::array<double, 4> lambda;
-          double                best = -std::numeric_limits<double>::max();
           for (const Box &candidate : candidates)
             {
               const auto   l        = barycentric(mesh, candidate.second, p);
@@ -161,22 +176,29 @@ namespace softface
                 }
             }
           if (cell != numbers::invalid_unsigned_int && best >= -1e-10)
-            ++mapping.n_inside;
-          else if (!mesh.skin.triangles.empty())
+            {
+              cell_of[i]   = cell;
+              lambda_of[i] = lambda;
+              ++mapping.n_inside;
+            }
+        }
+      lap("containing tetrahedra");
+
+      for (unsigned int i = 0; i < skin_surface.points.size(); ++i)
+        {
+          const Point<3> &p = skin_surface.points[i];
+          if (cell_of[i] == numbers::invalid_unsigned_int &&
+              !mesh.skin.triangles.empty())
             {
               // Outside: the tetrahedron of the skin face it projects onto.
               const auto hit = skin_search.closest(p);
-              if (hit.distance > parameters.reach)
+              if (hit.distance <= parameters.reach)
                 {
-                  ++mapping.n_outside;
-                  mapping.in_reach.push_back(false);
-                  mapping.row_start.push_back(mapping.vertices.size());
-                  continue;
+                  cell_of[i]   = mesh.cell_of_skin_triangle[hit.triangle];
+                  lambda_of[i] = barycentric(mesh, cell_of[i], p);
                 }
-              cell   = mesh.cell_of_skin_triangle[hit.triangle];
-              lambda = barycentric(mesh, cell, p);
             }
-          else
+          if (cell_of[i] == numbers::invalid_unsigned_int)
             {
               ++mapping.n_outside;
               mapping.in_reach.push_back(false);
@@ -186,11 +208,12 @@ namespace softface
           mapping.in_reach.push_back(true);
           for (unsigned int v = 0; v < 4; ++v)
             {
-              mapping.vertices.push_back(mesh.cells[cell][v]);
-              mapping.weights.push_back(lambda[v]);
+              mapping.vertices.push_back(mesh.cells[cell_of[i]][v]);
+              mapping.weights.push_back(lambda_of[i][v]);
             }
           mapping.row_start.push_back(mapping.vertices.size());
         }
+      lap("outside points");
       check_reach(mapping, parameters);
       return mapping;
     }
@@ -204,6 +227,11 @@ namespace softface
       SkinMapping        mapping;
       if (n_skin == 0)
         return mapping;
+      Timer      timer;
+      const auto lap = [&](const std::string &part) {
+        mapping.step_a_parts.emplace_back(part, timer.wall_time());
+        timer.restart();
+      };
 
       // Match every vertex of the mesh's skin with its closest skin point.
       using Leaf = std::pair<Point<3>, unsigned int>;
@@ -212,6 +240,7 @@ namespace softface
       for (unsigned int i = 0; i < n_skin; ++i)
         leaves.emplace_back(skin_surface.points[i], i);
       const auto skin_tree = pack_rtree(leaves);
+      lap("skin tree");
 
       std::vector<bool> on_mesh_skin(mesh.vertices.size(), false);
       for (const auto &tri : mesh.skin.triangles)
@@ -230,6 +259,7 @@ namespace softface
             if (mesh.vertices[v].distance(nearest[0].first) <= parameters.reach)
               known[nearest[0].second].push_back(v);
           }
+      lap("matching");
 
       // The skin's edges, for the connectivity rings.
       std::vector<std::vector<unsigned int>> neighbours(n_skin);
@@ -240,7 +270,19 @@ namespace softface
             neighbours[tri[(e + 1) % 3]].push_back(tri[e]);
           }
 
-      const TriangleSearch      mesh_skin_search(mesh.skin);
+      lap("edges");
+
+      // Which points are within reach of the mesh: the matched ones, and
+      // those close enough to the mesh's skin.
+      const TriangleSearch mesh_skin_search(mesh.skin);
+      for (unsigned int i = 0; i < n_skin; ++i)
+        mapping.in_reach.push_back(
+          !known[i].empty() ||
+          (!mesh.skin.triangles.empty() &&
+           mesh_skin_search.closest(skin_surface.points[i]).distance <=
+             parameters.reach));
+      lap("reach");
+
       std::vector<unsigned int> ring_of(n_skin, numbers::invalid_unsigned_int);
       std::vector<unsigned int> visited, front, next;
       for (unsigned int i = 0; i < n_skin; ++i)
@@ -253,11 +295,7 @@ namespace softface
                 mapping.weights.push_back(w / known[j].size());
               }
           };
-          const bool in_reach =
-            !known[i].empty() ||
-            (!mesh.skin.triangles.empty() &&
-             mesh_skin_search.closest(p).distance <= parameters.reach);
-          mapping.in_reach.push_back(in_reach);
+          const bool in_reach = mapping.in_reach[i];
           if (!known[i].empty())
             add_known(i, 1.);
           else if (!in_reach)
@@ -304,6 +342,7 @@ namespace softface
             }
           mapping.row_start.push_back(mapping.vertices.size());
         }
+      lap("rings");
       check_reach(mapping, parameters);
       return mapping;
     }

@@ -15,6 +15,7 @@
 
 #include <filesystem>
 #include <iomanip>
+#include <limits>
 
 namespace softface
 {
@@ -138,8 +139,10 @@ namespace softface
                       "the post-operative skin as skin_<model>_distance.csv "
                       "(one row per skin point, in the order of "
                       "skin_preoperative.ply; with exact correspondences "
-                      "also the exact distance and its normal component), "
-                      "for scripts.");
+                      "also the exact distance and its normal component; "
+                      "with TPS-RPM correspondences also the correspondence "
+                      "distance and the vector to the partner, nan where "
+                      "there is none), for scripts.");
     prm.declare_entry("Masked boxes",
                       "",
                       Patterns::Anything(),
@@ -339,7 +342,8 @@ namespace softface
         row.step_b_seconds = timer.wall_time();
 
         SurfaceMapping::Surface predicted = skin;
-        std::vector<double>     u_values, distance_values;
+        std::vector<double> u_values, distance_values, correspondence_values,
+          correspondence_offsets;
         for (unsigned int i = 0; i < skin_u.size(); ++i)
           {
             predicted.points[i] += skin_u[i];
@@ -359,11 +363,24 @@ namespace softface
                                                    parameters.mask,
                                                    mappings[k].in_reach);
             row.measured  = true;
-            if (parameters.correspondences)
-              correspond(predicted, mappings[k].in_reach, row);
             fields.push_back({"signed distance", 1, distance_values});
+            if (parameters.correspondences)
+              {
+                correspond(predicted,
+                           mappings[k].in_reach,
+                           row,
+                           correspondence_values,
+                           correspondence_offsets);
+                if (row.corresponded)
+                  {
+                    fields.push_back(
+                      {"correspondence distance", 1, correspondence_values});
+                    fields.push_back(
+                      {"to correspondence", 3, correspondence_offsets});
+                  }
+              }
           }
-        std::vector<double> exact_values, normal_values;
+        std::vector<double> exact_values, normal_values, exact_offsets;
         if (!exact_normals.empty())
           {
             for (unsigned int i = 0; i < skin.points.size(); ++i)
@@ -372,6 +389,8 @@ namespace softface
                   predicted.points[i] - post_operative.points[i];
                 exact_values.push_back(e.norm());
                 normal_values.push_back(e * exact_normals[i]);
+                for (unsigned int d = 0; d < 3; ++d)
+                  exact_offsets.push_back(-e[d]);
               }
             row.exact           = true;
             row.exact_distances = Validation::statistics(exact_values,
@@ -384,6 +403,7 @@ namespace softface
                                                       mappings[k].in_reach);
             fields.push_back({"exact distance", 1, exact_values});
             fields.push_back({"exact normal distance", 1, normal_values});
+            fields.push_back({"to exact partner", 3, exact_offsets});
           }
         const std::string name =
           directory + "/skin_" + Output::file_name_of(model) +
@@ -401,6 +421,10 @@ namespace softface
                 << (exact_values.empty() ? "" :
                                            ",exact distance mm,exact normal "
                                            "distance mm")
+                << (row.corresponded ?
+                      ",correspondence distance mm,to correspondence x mm,"
+                      "to correspondence y mm,to correspondence z mm" :
+                      "")
                 << '\n'
                 << std::setprecision(6);
             for (unsigned int i = 0; i < distance_values.size(); ++i)
@@ -408,6 +432,12 @@ namespace softface
                 csv << distance_values[i];
                 if (!exact_values.empty())
                   csv << ',' << exact_values[i] << ',' << normal_values[i];
+                if (row.corresponded)
+                  {
+                    csv << ',' << correspondence_values[i];
+                    for (unsigned int d = 0; d < 3; ++d)
+                      csv << ',' << correspondence_offsets[3 * i + d];
+                  }
                 csv << '\n';
               }
           }
@@ -418,9 +448,14 @@ namespace softface
   void
   SkinOutput::correspond(const SurfaceMapping::Surface &predicted,
                          const std::vector<bool>       &in_reach,
-                         Row                           &row) const
+                         Row                           &row,
+                         std::vector<double>           &distance,
+                         std::vector<double>           &offset) const
   {
-    Timer timer;
+    Timer        timer;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    distance.assign(predicted.points.size(), nan);
+    offset.assign(3 * predicted.points.size(), nan);
     // The measured region of the prediction, matched to the whole
     // post-operative surface.
     std::vector<unsigned int> measured;
@@ -441,7 +476,14 @@ namespace softface
     std::vector<double> distances;
     for (Eigen::Index k = 0; k < result.distance.size(); ++k)
       if (!result.beyond_rim[k])
-        distances.push_back(result.distance[k]);
+        {
+          const unsigned int i = measured[k];
+          distances.push_back(result.distance[k]);
+          distance[i] = result.distance[k];
+          for (unsigned int d = 0; d < 3; ++d)
+            offset[3 * i + d] =
+              result.correspondence(k, d) - predicted.points[i][d];
+        }
     if (distances.empty())
       return;
     std::vector<Point<3>> where(distances.size());
@@ -463,7 +505,7 @@ namespace softface
            "correspondence p90 mm,correspondence p95 mm,"
            "correspondence max mm,exact mean mm,exact p50 mm,exact p90 mm,"
            "exact p95 mm,exact max mm,exact normal mean mm,"
-           "exact normal variance mm2\n";
+           "exact normal variance mm2,weights per point,step A parts\n";
     csv << std::setprecision(10);
     out << "\nSkin (" << skin.points.size() << " points"
         << (post_operative.points.empty() ? "" :
@@ -515,6 +557,14 @@ namespace softface
               << row.exact_normal.mean << ',' << row.exact_normal.variance;
         else
           csv << ",,,,,,,";
+        // What step B costs per point, and where step A's time goes.
+        csv << ','
+            << static_cast<double>(m.vertices.size()) /
+                 std::max(1u, m.n_points() - m.n_outside)
+            << ',';
+        for (unsigned int j = 0; j < m.step_a_parts.size(); ++j)
+          csv << (j > 0 ? ";" : "") << m.step_a_parts[j].first << '='
+              << m.step_a_parts[j].second;
         csv << '\n';
         out << std::left << std::setw(16) << row.model << std::setw(18)
             << SurfaceMapping::name_of(row.method) << std::right << std::fixed

@@ -106,6 +106,14 @@ namespace softface
       std::vector<unsigned int> row_start = {0};
       std::vector<unsigned int> vertices;
       std::vector<double>       weights;
+
+      /// Wall seconds of step A's parts, in their order (what the seed's
+      /// Table 4 times as one figure): for shape functions the tetrahedra's
+      /// R-tree, the containing tetrahedra, and the points outside the mesh
+      /// projected onto its skin; for inverse distances the skin points'
+      /// R-tree, matching the mesh's skin vertices, the skin's edges, the
+      /// reach of each unmatched point, and the rings.
+      std::vector<std::pair<std::string, double>> step_a_parts;
     };
 
     /**

@@ -138,11 +138,17 @@ namespace softface
     find_exact_correspondences(std::ostream &out);
 
     /// TPS-RPM from the measured region of @p predicted to the
-    /// post-operative surface; fills the row's correspondence.
+    /// post-operative surface; fills the row's correspondence and, per skin
+    /// point, @p distance (NaN where no correspondence counts: outside the
+    /// measured region or beyond the post-operative skin's rim) and
+    /// @p offset, the vector from the predicted point to its partner (3 per
+    /// point, NaN likewise).
     void
     correspond(const SurfaceMapping::Surface &predicted,
                const std::vector<bool>       &in_reach,
-               Row                           &row) const;
+               Row                           &row,
+               std::vector<double>           &distance,
+               std::vector<double>           &offset) const;
 
     const SkinParameters   &parameters;
     std::string             directory;
