@@ -4,19 +4,23 @@ ten phantom patients (procedure, tetrahedra, largest soft-tissue motion, each
 model's time), the patient pipeline's figures, and each patient's image.
 
 Usage: report.py WORK_DIR RESULTS_DIR  (called by benchmarks/patients/run.sh)
-Reads WORK_DIR/P<n>/{summary.csv, patient.csv, exit_code, stderr.txt}; writes
-RESULTS_DIR/patients.md and RESULTS_DIR/patients.csv.
+Reads WORK_DIR/P<n>/{summary.csv, patient.csv, exit_code, stderr.txt} (and
+what skin_report.py, precision_report.py and timing_report.py read); writes RESULTS_DIR/patients.md
+and RESULTS_DIR/patients.csv.
 """
 import csv
 import os
 import platform
 import re
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import summary  # noqa: E402
 import skin_report  # noqa: E402
+import precision_report  # noqa: E402
+import timing_report  # noqa: E402
 
 # The seed's Table 2 (Mollemans et al. 2007): procedure, N_tetra, M_max (mm),
 # T_FEM, T_MTM, T_MSM, T_NFEM (s) on a Pentium 4 with 1 GB; None where the
@@ -47,6 +51,24 @@ def fmt(x, digits=3):
     if x is None or x == "":
         return "-"
     return f"{float(x):.{digits}g}"
+
+
+def commit():
+    """The commit softface was built from (a suffix says the tree had
+    uncommitted changes)."""
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+    try:
+        head = subprocess.run(["git", "-C", root, "rev-parse", "--short",
+                               "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain",
+                                "--untracked-files=no", "--", "source",
+                                "include"], capture_output=True,
+                               text=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "an unknown commit"
+    return head + (" with local changes to source/ or include/" if dirty
+                   else "")
 
 
 def seconds(row):
@@ -113,7 +135,8 @@ def main(work, results):
     md.append("# Ten phantom patients after the seed's Table 2\n")
     md.append("Made by `benchmarks/patients/run.sh` (scenes "
               "`prm/patients/P1.prm` ... `P10.prm`, written by "
-              "`benchmarks/patients/make_scenes.py`) on "
+              "`benchmarks/patients/make_scenes.py`; softface at "
+              f"{commit()}) on "
               f"{platform.machine()} / {os.cpu_count()} cores; figures from "
               "each run's `summary.csv` and `patient.csv`. CSV: "
               "[patients.csv](patients.csv).\n")
@@ -207,6 +230,8 @@ def main(work, results):
     md.append("")
 
     md += skin_report.sections(work, results, [r["patient"] for r in rows])
+    md += precision_report.sections(work, results, [r["patient"] for r in rows])
+    md += timing_report.sections(work, results, [r["patient"] for r in rows])
 
     md.append("## The patients\n")
     md.append("Skin and skull of each phantom (front and right profile), "

@@ -2,8 +2,15 @@
 # The ten phantom patients after the seed's Table 2 (Mollemans et al. 2007):
 # builds each patient from its scene prm/patients/P<n>.prm (phantom CT ->
 # segmentation -> surfaces -> bone parts -> tetrahedral mesh -> the four
-# models) and writes doc/results/patients.md (+ patients.csv, and one PNG per
-# patient of its skin and skull, front and profile).
+# models), measures each predicted skin against the patient's post-operative
+# truth (closest points, TPS-RPM correspondences and exact correspondences),
+# runs the mass tensor model's precision study on the patient (seed Table 1,
+# both relaxation factors) and writes doc/results/patients.md: the seed's
+# Tables 1-4 and Figs. 1, 6, 9-11 side by side with ours, the seed's
+# conclusions judged against the truth's and the metric's own error, and
+# its timing claims taken apart (+ CSVs and PNGs, one picture per patient).
+# What accuracy costs in time over mesh sizes and stop thresholds, on the
+# same truths: benchmarks/patients/accuracy_time.py.
 #
 #   benchmarks/patients/run.sh            all ten (about 9 min, plus about
 #                                         an hour for their truths the first time)
@@ -85,6 +92,33 @@ if [ $report_only -eq 0 ]; then
     echo "$code $(( (end - start) / 1000000 ))" > "$out/exit_code"  # exit code, wall ms
     grep -E "^ *(model|linear fem|mass tensor|mass spring|nonlinear fem) +[0-9m]" "$out/log.txt" || true
     grep "Maximum resident" "$out/stderr.txt" || true
+    # The seed's precision study (2.3.5, Table 1, Fig. 1) on the patient: the
+    # mass tensor model alone on the patient's mesh (its stage files reused),
+    # every free point in every sweep until all gradients fall below 1e-5 mm
+    # per sweep, the distance to the converged answer written after each
+    # sweep; with the seed's plain update (factor 1) and the default
+    # over-relaxation (auto).
+    for factor in 1 auto; do
+      run="$out/precision_$factor"
+      mkdir -p "$run"
+      sed -e "s|set Output directory = .*|set Output directory = $root/$run|" \
+        -e "s|set Post-operative skin = .*|set Post-operative skin =|" \
+        -e "s|set Models = .*|set Models = mass tensor|" \
+        "prm/patients/$p.prm" > "$run/scene.prm"
+      printf '%s\n' "subsection Scene" "  subsection Patient" \
+        "    set Work directory = $root/$out/patient" "  end" "end" \
+        "subsection Models" "  subsection mass tensor" \
+        "    set Relaxation factor = $factor" "    set Active set = false" \
+        "    set Stop gradient threshold = 1e-5" \
+        "    set Precision history file = $root/$run/history.csv" "  end" "end" \
+        "subsection Skin" "  set Skin surface = none" "end" \
+        "subsection Output" "  set Write VTU = false" "end" >> "$run/scene.prm"
+      if build/softface "$run/scene.prm" > "$run/log.txt" 2>&1; then
+        echo "patients: $p: precision study, relaxation factor $factor: $(($(wc -l < "$run/history.csv") - 1)) sweeps"
+      else
+        echo "patients: $p: precision study, relaxation factor $factor failed (see $run/log.txt)"
+      fi
+    done
     /usr/bin/python3 benchmarks/patients/render.py "$out/patient/skin.ply" \
       "$out/patient/skull.ply" "$results/patients/$p.png" \
       --title "$p: $(grep -m1 '^# Phantom patient' "prm/patients/$p.prm" | sed 's/.*Table 2: //; s/,.*//')" ||

@@ -4,10 +4,11 @@ model's predicted skin is from the post-operative skin, and what the
 volume/surface mapping costs.
 
 Called by report.py: reads WORK_DIR/P<n>/skin.csv (and, for the pictures,
-skin_preoperative.ply and skin_mass_tensor_sf_distance.csv); returns the
-Markdown sections and writes RESULTS_DIR/patients_skin.csv and the PNGs
-patients_skin_percentiles.png (Fig. 9), patients_mapping.png (Fig. 11) and
-patients/P<n>_distance.png (Fig. 10).
+the predicted skins, skin_postoperative.ply and the distance CSVs); returns
+the Markdown sections and writes RESULTS_DIR/patients_skin.csv,
+patients_exact.csv and the PNGs patients_skin_percentiles.png (Fig. 9),
+patients_exact.png, patients/P<n>_distance.png (Fig. 10) and
+patients/P<n>_partners.png (Fig. 6).
 """
 import csv
 import os
@@ -18,6 +19,7 @@ matplotlib.use("Agg")  # headless
 import matplotlib.pyplot as plt  # noqa: E402
 
 import render  # noqa: E402  (benchmarks/patients/render.py)
+import partners_figure  # noqa: E402
 
 MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 SEED_NAMES = {"linear fem": "FEM", "mass tensor": "MTM", "mass spring": "MSM",
@@ -55,44 +57,57 @@ def fmt(x, digits=3):
 
 def distance_picture(patient_dir, out_png, title):
     """Fig. 10: the MTM's predicted skin (shape functions) coloured by its
-    signed distance to the post-operative skin, -3..3 mm, front and right
-    profile."""
+    signed closest-point distance to the post-operative skin, -3..3 mm, and
+    (with exact correspondences) by its exact distance, 0..3 mm; front and
+    right profile."""
     ply = os.path.join(patient_dir, "skin_mass_tensor_sf.ply")
     dist = os.path.join(patient_dir, "skin_mass_tensor_sf_distance.csv")
     if not (os.path.exists(ply) and os.path.exists(dist)):
         return False
     verts, tris = render.read_ply(ply)
-    d = np.loadtxt(dist, skiprows=1)
+    with open(dist) as f:
+        header = f.readline().strip().split(",")
+    table = np.loadtxt(dist, delimiter=",", skiprows=1, ndmin=2)
+    maps = [(table[:, 0], "RdBu_r", (-3, 3),
+             "signed closest-point distance (mm)")]
+    if "exact distance mm" in header:
+        maps.append((table[:, header.index("exact distance mm")], "magma_r",
+                     (0, 3), "exact distance (mm)"))
     normals = render.vertex_normals(verts, tris)
     lo, hi = verts.min(0) - [2.0, 2.0, 2.0], verts.max(0) + 2.0
     mm_per_px = np.ptp(verts[:, 2]) / 500
-    cmap = plt.get_cmap("RdBu_r")
-    fig, axes = plt.subplots(1, 2, figsize=(9, 5.6), dpi=100)
-    for ax, view in zip(axes, render.VIEWS):
-        right, toward = (np.array(a, float) for a in render.VIEWS[view])
-        up = np.array([0.0, 0.0, 1.0])
-        light = toward + 0.4 * up - 0.3 * right
-        light /= np.linalg.norm(light)
-        u, v = verts @ right, verts @ up
-        umin = min(lo @ right, hi @ right)
-        umax = max(lo @ right, hi @ right)
-        width = int(np.ceil((umax - umin) / mm_per_px)) + 1
-        height = int(np.ceil((hi[2] - lo[2]) / mm_per_px)) + 1
-        xy = np.stack([(u - umin) / mm_per_px, (hi[2] - v) / mm_per_px], 1)
-        depth = -(verts @ toward)
-        shade, mask = render.rasterise(xy, depth, 0.35 + 0.65 *
-                                       np.abs(normals @ light), tris, height,
-                                       width)
-        value_img, _ = render.rasterise(xy, depth, np.clip(d, -3, 3), tris,
-                                        height, width)
-        rgb = cmap((value_img + 3) / 6)[..., :3] * shade[..., None]
-        rgb = np.where(mask[..., None], rgb, 1.0)
-        ax.imshow(rgb, extent=(umin, umax, lo[2], hi[2]))
-        ax.set_title(view)
-        ax.set_axis_off()
-    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(-3, 3))
-    fig.colorbar(sm, ax=axes, shrink=0.7,
-                 label="signed distance to the post-operative skin (mm)")
+    fig, axes = plt.subplots(len(maps), 2, figsize=(9, 5.6 * len(maps)),
+                             dpi=100, squeeze=False)
+    for row, (d, cmap_name, (vmin, vmax), label) in zip(axes, maps):
+        cmap = plt.get_cmap(cmap_name)
+        for ax, view in zip(row, render.VIEWS):
+            right, toward = (np.array(a, float) for a in render.VIEWS[view])
+            up = np.array([0.0, 0.0, 1.0])
+            light = toward + 0.4 * up - 0.3 * right
+            light /= np.linalg.norm(light)
+            u, v = verts @ right, verts @ up
+            umin = min(lo @ right, hi @ right)
+            umax = max(lo @ right, hi @ right)
+            width = int(np.ceil((umax - umin) / mm_per_px)) + 1
+            height = int(np.ceil((hi[2] - lo[2]) / mm_per_px)) + 1
+            xy = np.stack([(u - umin) / mm_per_px, (hi[2] - v) / mm_per_px],
+                          1)
+            depth = -(verts @ toward)
+            shade, mask = render.rasterise(xy, depth, 0.35 + 0.65 *
+                                           np.abs(normals @ light), tris,
+                                           height, width)
+            value_img, _ = render.rasterise(xy, depth,
+                                            np.clip(d, vmin, vmax), tris,
+                                            height, width)
+            rgb = cmap((value_img - vmin) / (vmax - vmin))[..., :3] * \
+                shade[..., None]
+            rgb = np.where(mask[..., None], rgb, 1.0)
+            ax.imshow(rgb, extent=(umin, umax, lo[2], hi[2]))
+            ax.set_title(view)
+            ax.set_axis_off()
+        sm = plt.cm.ScalarMappable(cmap=cmap,
+                                   norm=plt.Normalize(vmin, vmax))
+        fig.colorbar(sm, ax=row, shrink=0.7, label=label)
     fig.suptitle(title)
     fig.savefig(out_png)
     plt.close(fig)
@@ -244,7 +259,8 @@ def exact_against_closest(data, row_of, results):
     pairs = {k: v for k, v in pairs.items() if v is not None}
     if not pairs:
         return []
-    md = ["### Closest points against exact correspondences\n",
+    md = ["### How right each metric is: closest points, TPS-RPM and exact "
+          "correspondences\n",
           "The truth moved the same skin points as every model, so each "
           "predicted point's true post-operative position is known: the "
           "exact distance is |predicted - true|. A closest point on the "
@@ -258,8 +274,9 @@ def exact_against_closest(data, row_of, results):
           "point matched to the post-operative surface by the TPS-RPM "
           "variant, doc/skin.md).\n",
           "| model | closest 50 / 90 / 95 % | exact 50 / 90 / 95 % | closest "
-          "/ exact, 50 / 90 / 95 % | TPS-RPM 50 / 90 / 95 % | patients |",
-          "|---|---|---|---|---|---|"]
+          "/ exact, 50 / 90 / 95 % | TPS-RPM 50 / 90 / 95 % | TPS-RPM / "
+          "exact, 50 / 90 / 95 % | patients |",
+          "|---|---|---|---|---|---|---|"]
     csv_rows = []
     for m in MODELS:
         these = [v for (p, mm), v in pairs.items() if mm == m]
@@ -268,30 +285,41 @@ def exact_against_closest(data, row_of, results):
         closest = np.mean([c for c, _ in these], axis=0)
         exact = np.mean([e for _, e in these], axis=0)
         ratio = np.mean([c / e for c, e in these], axis=0)
-        rpm = [tps_rpm(p, mm) for (p, mm) in pairs if mm == m]
-        rpm = [v for v in rpm if v is not None]
-        rpm_cell = (" / ".join(f"{x:.2f}" for x in np.mean(rpm, axis=0))
+        rpm = [(tps_rpm(p, mm), v[1]) for (p, mm), v in pairs.items()
+               if mm == m]
+        rpm = [(t, e) for t, e in rpm if t is not None]
+        rpm_cell = (" / ".join(f"{x:.2f}" for x in
+                               np.mean([t for t, _ in rpm], axis=0))
                     if rpm else "-")
+        rpm_ratio = (" / ".join(f"{x:.2f}" for x in
+                                np.mean([t / e for t, e in rpm], axis=0))
+                     if rpm else "-")
         md.append(f"| {SEED_NAMES[m]} ({m}) | "
                   + " / ".join(f"{x:.2f}" for x in closest) + " | "
                   + " / ".join(f"{x:.2f}" for x in exact) + " | "
                   + " / ".join(f"{x:.2f}" for x in ratio)
-                  + f" | {rpm_cell} | {len(these)} |")
+                  + f" | {rpm_cell} | {rpm_ratio} | {len(these)} |")
     md.append("")
-    md.append("Each patient (90 % percentile, mm: closest / exact):\n")
+    md.append("Each patient (90 % percentile, mm: closest / TPS-RPM / "
+              "exact):\n")
     md.append("| patient | " + " | ".join(MODELS) + " |")
     md.append("|---|" + "---|" * len(MODELS))
     for p in data:
         cells = []
         for m in MODELS:
             v = pairs.get((p, m))
+            t = tps_rpm(p, m)
             cells.append("-" if v is None else
-                         f"{v[0][1]:.2f} / {v[1][1]:.2f}")
+                         f"{v[0][1]:.2f} / "
+                         f"{'-' if t is None else f'{t[1]:.2f}'} / "
+                         f"{v[1][1]:.2f}")
             if v is not None:
                 csv_rows.append(dict(
                     patient=p, model=m,
                     **{f"closest {k} mm": f"{c:.6g}"
                        for k, c in zip(keys, v[0])},
+                    **{f"TPS-RPM {k} mm": "" if t is None else f"{x:.6g}"
+                       for k, x in zip(keys, t if t is not None else keys)},
                     **{f"exact {k} mm": f"{e:.6g}"
                        for k, e in zip(keys, v[1])}))
         md.append(f"| {p} | " + " | ".join(cells) + " |")
@@ -306,21 +334,59 @@ def exact_against_closest(data, row_of, results):
     fig, axes = plt.subplots(1, len(MODELS), figsize=(14, 3.8), sharey=True)
     for ax, m in zip(axes, MODELS):
         these = [(p, v) for (p, mm), v in pairs.items() if mm == m]
-        for p, (c, e) in these:
-            ax.plot(e[1], c[1], "o", color="C0")
+        for k, (p, (c, e)) in enumerate(these):
+            ax.plot(e[1], c[1], "o", color="C0",
+                    label="closest point" if k == 0 else None)
+            t = tps_rpm(p, m)
+            if t is not None:
+                ax.plot(e[1], t[1], "s", color="C1", markerfacecolor="none",
+                        label="TPS-RPM" if k == 0 else None)
             ax.annotate(p, (e[1], c[1]), fontsize=7)
         top = max([v[1][1] for _, v in these] + [1e-3]) * 1.1
         ax.plot([0, top], [0, top], "k--", linewidth=0.8,
-                label="closest = exact")
+                label="equal to exact")
         ax.set_title(SEED_NAMES[m])
         ax.set_xlabel("exact 90 % (mm)")
-    axes[0].set_ylabel("closest-point 90 % (mm)")
+    axes[0].set_ylabel("90 % in the metric (mm)")
     axes[0].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(results, "patients_exact.png"))
     plt.close(fig)
     md.append("![closest against exact](patients_exact.png)\n")
     return md
+
+
+def partners_section(work, results, patients):
+    """The seed's Fig. 6 for the first patient that has the files: six lip
+    points of linear FEM's prediction and their three partners."""
+    for p in patients:
+        png = os.path.join("patients", f"{p}_partners.png")
+        rows = partners_figure.partners_picture(
+            os.path.join(work, p), os.path.join(results, png),
+            f"{p}, linear FEM: a predicted point (black) and its partners on "
+            "the post-operative skin")
+        if rows is None:
+            continue
+        md = ["### Fig. 6: closest, corresponding and true partners\n",
+              f"Six points of {p}'s lips as linear FEM predicts them (shape-"
+              "function mapping; the front-most points of the midsagittal "
+              "profile between z = -50 and -10 mm, evenly spaced in height), "
+              "each with its closest point on the post-operative skin, its "
+              "corresponding point by the TPS-RPM variant and its true "
+              "post-operative position; drawn in the sagittal plane (the "
+              "distances in the legends are in 3D; a partner off the plane "
+              "is drawn where it projects). Lines: where the plane through "
+              "the point cuts the post-operative skin (grey) and the "
+              "predicted skin (light blue).\n",
+              f"![partners]({png})\n",
+              "| z (mm) | closest (mm) | TPS-RPM (mm) | exact (mm) |",
+              "|---|---|---|---|"]
+        for r in rows:
+            md.append(f"| {r['z']:.1f} | {r['closest point']:.3f} | "
+                      f"{r['TPS-RPM']:.3f} | {r['exact']:.3f} |")
+        md.append("")
+        return md
+    return []
 
 
 def sections(work, results, patients):
@@ -382,25 +448,42 @@ def sections(work, results, patients):
                   "(`run.sh --no-truth`); their predictions are in "
                   "Table 2.\n")
 
-    # Table 3 analogue.
+    # Table 3 analogue, in the three metrics.
     md.append("### Table 3: percentiles averaged over the patients\n")
     md.append("Shape-function mapping; mean over the patients where the model "
-              "ran, of the 50/90/95 % percentiles of |distance| (mm).\n")
-    md.append("| model | T50 seed | ours | T90 seed | ours | T95 seed | ours "
-              "| patients |")
-    md.append("|---|---|---|---|---|---|---|---|")
+              "ran, of the 50/90/95 % percentiles (mm) of the distance to the "
+              "post-operative skin in three metrics: *closest*, |signed "
+              "closest-point distance|; *TPS-RPM*, the distance to the "
+              "corresponding point the seed's metric finds (3.5.1: every "
+              "measured point matched to the post-operative surface by the "
+              "TPS-RPM variant, doc/skin.md); *exact*, the distance to the "
+              "point's true post-operative position (the truth moved the same "
+              "skin points). The seed's figures are in its metric, on real "
+              "patients.\n")
+    md.append("| model | T50 seed | closest | TPS-RPM | exact | T90 seed | "
+              "closest | TPS-RPM | exact | T95 seed | closest | TPS-RPM | "
+              "exact | patients |")
+    md.append("|---" * 14 + "|")
     for m in MODELS:
-        vals = [[value(row_of(p, m, "shape functions"), k)
-                 for k in ("p50 mm", "p90 mm", "p95 mm")] for p in data]
-        vals = [v for v in vals if None not in v]
-        mean = np.mean(vals, axis=0) if vals else [None] * 3
+        keys = [f"{metric}{k} mm" for k in ("p50", "p90", "p95")
+                for metric in ("", "correspondence ", "exact ")]
+        vals = [[value(row_of(p, m, "shape functions"), k) for k in keys]
+                for p in data]
+        vals = [[np.nan if x is None else x for x in v] for v in vals
+                if v[0] is not None]
+        mean = np.nanmean(vals, axis=0) if vals else [np.nan] * 9
         s = SEED_TABLE3[m]
-        md.append(f"| {SEED_NAMES[m]} ({m}) | {s[0]:.2f} | {fmt(mean[0])} | "
-                  f"{s[1]:.2f} | {fmt(mean[1])} | {s[2]:.2f} | "
-                  f"{fmt(mean[2])} | {len(vals)} |")
+        cells = []
+        for j in range(3):
+            cells.append(f"{s[j]:.2f}")
+            cells += [fmt(x) if np.isfinite(x) else "-"
+                      for x in mean[3 * j:3 * j + 3]]
+        md.append(f"| {SEED_NAMES[m]} ({m}) | " + " | ".join(cells) +
+                  f" | {len(vals)} |")
     md.append("")
     md += conclusions(data, row_of, results)
     md += exact_against_closest(data, row_of, results)
+    md += partners_section(work, results, list(data))
 
     # Fig. 9 analogue: per patient and model.
     md.append("### Fig. 9: each patient and model\n")
@@ -441,12 +524,16 @@ def sections(work, results, patients):
 
     # Fig. 10 analogue.
     md.append("### Fig. 10: distance maps (mass tensor model)\n")
+    md.append("The predicted skin (shape-function mapping) coloured by its "
+              "signed closest-point distance to the post-operative skin "
+              "(above) and by the distance to each point's true "
+              "post-operative position (below).\n")
     pictures = []
     for p in data:
         png = os.path.join("patients", f"{p}_distance.png")
         if distance_picture(os.path.join(work, p),
                             os.path.join(results, png),
-                            f"{p}: mass tensor model, signed distance"):
+                            f"{p}: mass tensor model"):
             pictures.append(f"![{p} distance map]({png})")
     md += pictures + [""]
 
