@@ -175,7 +175,18 @@ def mapping_section(rows, results):
           "(update) of each mapping as one figure each. softface's step A, "
           "part by part (s; mass tensor model's run, which maps the same "
           "skin as every model), with the mean number of weights per mapped "
-          "point, which is what step B sums:\n"]
+          "point, which is what step B sums. Shape functions: `trees` (R-trees "
+          "of the tetrahedra's boxes and of the mesh's skin triangles), "
+          "`containing tetrahedra` (each skin point's, from the R-tree), "
+          "`outside points` (a closest-point query on the mesh's skin for "
+          "each point in no tetrahedron: whether it is within reach, and the "
+          "tetrahedron it projects onto). Inverse distances: `skin tree`, "
+          "`matching` (each skin vertex of the mesh to its closest skin "
+          "point), `edges`, `reach` (a closest-point query on the mesh's "
+          "skin for each unmatched point), `rings` (the connectivity rings "
+          "of each point within reach). The skin is the whole head's; the "
+          "mesh covers the face, so most skin points are out of reach and "
+          "cost one closest-point query each in either method.\n"]
     for method in ("shape functions", "inverse distance"):
         these = [r for r in rows if r["mapping"] == method]
         if not these:
@@ -197,16 +208,36 @@ def mapping_section(rows, results):
     idw = {r["patient"]: r for r in rows if r["mapping"] == "inverse distance"}
     both = [p for p in sf if p in idw]
     if both:
+        import skin_report
+        seed = [skin_report.SEED_TABLE4[p] for p in both]
+        seed_a = np.mean([s[0] / s[2] for s in seed])
+        seed_b = np.mean([s[1] / s[3] for s in seed])
         a = np.mean([idw[p]["step_a_s"] / sf[p]["step_a_s"] for p in both])
         b = np.mean([idw[p]["step_b_s"] / sf[p]["step_b_s"] for p in both])
+
+        def largest(these):
+            shares = {}
+            for r in these:
+                for k in r:
+                    if k.startswith("A: "):
+                        shares.setdefault(k[3:], []).append(
+                            r[k] / r["step_a_s"])
+            name = max(shares, key=lambda k: np.mean(shares[k]))
+            return name, 100 * np.mean(shares[name])
+
+        sf_part, sf_share = largest([sf[p] for p in both])
+        idw_part, idw_share = largest([idw[p] for p in both])
         md.append(f"Inverse distance against shape functions, mean over "
                   f"{len(both)} patients: step A {a:.2f}x, step B {b:.2f}x "
-                  "the time (the seed: about 0.05x and 0.4x). Shape functions "
-                  "find each point's tetrahedron in an R-tree of the "
-                  "tetrahedra and sum 4 weights per point; inverse distances "
-                  "match the mesh's skin vertices, walk the connectivity "
-                  "rings of every unmatched point and sum more weights per "
-                  "point.\n")
+                  f"the time (the seed's Table 4: {seed_a:.2f}x and "
+                  f"{seed_b:.2f}x on the same patients). Most of step A is "
+                  f"'{sf_part}' for shape functions ({sf_share:.0f} %) and "
+                  f"'{idw_part}' for inverse distances ({idw_share:.0f} %); "
+                  "weights per mapped point: "
+                  f"{np.mean([sf[p]['weights_per_point'] for p in both]):.2g}"
+                  " and "
+                  f"{np.mean([idw[p]['weights_per_point'] for p in both]):.2g}"
+                  ".\n")
     with open(os.path.join(results, "patients_mapping_parts.csv"), "w",
               newline="") as out:
         keys = []
