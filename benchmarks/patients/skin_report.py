@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The patients benchmark's skin part (issue 14, seed 3.4-3.6): how far each
+"""The patients benchmark's skin part (seed 3.4-3.6): how far each
 model's predicted skin is from the post-operative skin, and what the
 volume/surface mapping costs.
 
@@ -428,9 +428,11 @@ def sections(work, results, patients):
     md = ["## The predicted skins against the post-operative skins\n",
           "Every model's displacement is mapped onto the dense skin surface "
           "of the CT (seed 3.4) and measured against the post-operative skin "
-          "by signed closest-point distances (negative: the prediction lies "
-          "behind it), over the skin points within reach of the tetrahedral "
-          "mesh (the simulated region of the face). CSV: "
+          "over the skin points within reach of the tetrahedral mesh (the "
+          "simulated region of the face) in three ways: signed closest-point "
+          "distances (negative: the prediction lies behind it), distances to "
+          "the corresponding points of the seed's TPS-RPM variant, and exact "
+          "distances to each point's true post-operative position. CSV: "
           "[patients_skin.csv](patients_skin.csv).\n",
           "**What these distances measure.** The phantoms have no "
           "post-operative CT. Their post-operative skin is made by a model "
