@@ -108,6 +108,17 @@ def run(p, f, t, models):
     return f"exit {code} in {time.time() - start:.0f} s"
 
 
+def failures(patients, factors, thresholds):
+    """(patient, factor, threshold, model, reason) of every model that ran
+    and failed."""
+    out = []
+    for p, f, t, models in cases(patients, factors, thresholds):
+        for r in summary.read(os.path.join(folder(p, f, t), "summary.csv")):
+            if r["model"] in models and r["status"] != "ok":
+                out.append((p, f, t, r["model"], r["error"]))
+    return out
+
+
 def collect(patients, factors, thresholds):
     rows = []
     for p, f, t, models in cases(patients, factors, thresholds):
@@ -140,7 +151,7 @@ def label(r):
             if r["stop_threshold"] != "" else r["model"])
 
 
-def report(rows, command, patients):
+def report(rows, command, patients, failed=()):
     if not rows:
         sys.exit("accuracy_time: no results to report")
     with open(os.path.join(RESULTS, "patients_accuracy.csv"), "w",
@@ -185,6 +196,33 @@ def report(rows, command, patients):
                   f"{np.mean([r['closest_p90_mm'] for r in g]):.3f} | "
                   f"{len(g)} |")
     md.append("")
+    # Per model: its most accurate setting, and the cheapest one within
+    # 0.05 mm of it (means over the patients where all of the model's
+    # settings ran).
+    md.append("What each model's accuracy costs (means of the table above):\n")
+    for model in MODELS:
+        these = [(k, groups[k]) for k in order if groups[k][0]["model"] == model]
+        if not these:
+            continue
+        p90 = {k: np.mean([r["exact_p90_mm"] for r in g]) for k, g in these}
+        secs = {k: np.mean([r["seconds"] for r in g]) for k, g in these}
+        best = min(p90, key=p90.get)
+        cheap = min((k for k in p90 if p90[k] <= p90[best] + 0.05),
+                    key=secs.get)
+        md.append(f"- {model}: most accurate {best[0]} at factor {best[1]:g}, "
+                  f"exact p90 {p90[best]:.3f} mm in {secs[best]:.3g} s; "
+                  f"within 0.05 mm of it for the least time: {cheap[0]} at "
+                  f"factor {cheap[1]:g}, {p90[cheap]:.3f} mm in "
+                  f"{secs[cheap]:.3g} s.")
+    md.append("")
+    if failed:
+        md.append("Runs that failed (left out of the means above; their "
+                  "reason, from `summary.csv`):\n")
+        for p, f, t, model, reason in failed:
+            md.append(f"- {p}, factor {f:g}, {model}"
+                      + (f", stop {t:g}" if model in POINT_MODELS else "")
+                      + f": {reason}")
+        md.append("")
     md.append("CSV (every patient, model, size and threshold): "
               "[patients_accuracy.csv](patients_accuracy.csv).\n")
     md.append("![exact p90 against time, mean over the patients]"
@@ -275,9 +313,12 @@ def main():
             outcome = run(p, f, t, models)
             print(f"accuracy_time: [{k}/{len(todo)}] {p}, factor {f:g}, "
                   f"stop {t:g} ({', '.join(models)}): {outcome}", flush=True)
-    command = "benchmarks/patients/accuracy_time.py " + " ".join(sys.argv[1:])
+    command = "benchmarks/patients/accuracy_time.py " + " ".join(
+        a for a in sys.argv[1:] if a != "--report-only")
+    if args.report_only:
+        command = command.strip() + "`, the report rewritten by `--report-only"
     report(collect(args.patients, factors, thresholds), command.strip(),
-           args.patients)
+           args.patients, failures(args.patients, factors, thresholds))
     print("accuracy_time: wrote doc/results/patients_accuracy.md")
     return 0
 

@@ -12,8 +12,9 @@
 # What accuracy costs in time over mesh sizes and stop thresholds, on the
 # same truths: benchmarks/patients/accuracy_time.py.
 #
-#   benchmarks/patients/run.sh            all ten (about 9 min, plus about
-#                                         an hour for their truths the first time)
+#   benchmarks/patients/run.sh            all ten (about 18 min on 2 cores,
+#                                         plus about an hour for their truths
+#                                         the first time)
 #   benchmarks/patients/run.sh P4 P5      some of them
 #   benchmarks/patients/run.sh --no-truth P8
 #                                         without the post-operative truth
