@@ -14,7 +14,8 @@
 #
 #   benchmarks/patients/run.sh            all ten (about 18 min on 2 cores,
 #                                         plus about an hour for their truths
-#                                         the first time)
+#                                         the first time and after any change
+#                                         of softface's code)
 #   benchmarks/patients/run.sh P4 P5      some of them
 #   benchmarks/patients/run.sh --no-truth P8
 #                                         without the post-operative truth
@@ -69,7 +70,7 @@ if [ $report_only -eq 0 ]; then
     mkdir -p "$out"
     # The scene and its truth (the post-operative skin) with their output
     # folders redirected into the build tree; the truth's folder is kept, so
-    # that an unchanged truth is not made again.
+    # that an unchanged truth made by the same build is not made again.
     truth="$work/${p}_truth"
     mkdir -p "$truth"
     sed "s|set Output directory = .*|set Output directory = $root/$truth|" \

@@ -6,6 +6,7 @@
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
+#include <softface/core/build_id.h>
 #include <softface/core/displacement.h>
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
@@ -182,8 +183,15 @@ namespace softface
         s << in.rdbuf();
         return in ? s.str() : std::string();
       };
-      if (std::filesystem::exists(skin) &&
-          contents(output.directory + "/input.prm") == contents(truth_scene))
+      // The skin is reused only if the same file made it with the same
+      // build of softface: a changed model makes another truth.
+      const std::string stamp = output.directory + "/truth_build_id.txt";
+      const std::string build = library_build_id_of(
+        reinterpret_cast<const void *>(&post_operative_skin_of));
+      const bool same_scene =
+        std::filesystem::exists(skin) &&
+        contents(output.directory + "/input.prm") == contents(truth_scene);
+      if (same_scene && !build.empty() && contents(stamp) == build)
         {
           out << "  post-operative skin " << skin << " (made by " << truth_scene
               << ")" << std::endl;
@@ -191,13 +199,17 @@ namespace softface
         }
       // An older skin must not pass for this scene's if its run fails.
       std::filesystem::remove(skin);
+      std::filesystem::remove(stamp);
       out << "  post-operative skin: running the truth scene " << truth_scene
+          << (same_scene ? " (its skin was made by another build of softface)" :
+                           "")
           << std::endl;
       Simulator truth;
       const int code = truth.run(truth_scene, out, out);
       if (code != 0 || !std::filesystem::exists(skin))
         throw Error(where + ": the truth scene failed (its output is in " +
                     output.directory + ").");
+      std::ofstream(stamp) << build;
       out << "  post-operative skin " << skin << " (made by " << truth_scene
           << ")" << std::endl;
       return skin;
