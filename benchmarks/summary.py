@@ -43,3 +43,12 @@ def details_text(text):
             pass
         items.append(f"{name} {number}{' ' + unit if unit else ''}")
     return ", ".join(items)
+
+
+def write_rows(path, rows, fieldnames=None):
+    """ROWS (dicts) as a CSV file; the columns are FIELDNAMES, or the first
+    row's keys."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fieldnames or list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)

@@ -154,11 +154,7 @@ def label(r):
 def report(rows, command, patients, failed=()):
     if not rows:
         sys.exit("accuracy_time: no results to report")
-    with open(os.path.join(RESULTS, "patients_accuracy.csv"), "w",
-              newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    summary.write_rows(os.path.join(RESULTS, "patients_accuracy.csv"), rows)
     ran = sorted({r["patient"] for r in rows}, key=lambda p: int(p[1:]))
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short",
                              "HEAD"], capture_output=True,

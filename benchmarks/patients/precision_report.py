@@ -8,10 +8,11 @@ distance of a free point to the converged answer of the same equations and
 the largest gradient); returns the Markdown section and writes
 RESULTS_DIR/patients_precision.csv and patients_precision.png.
 """
-import csv
 import os
 
 import numpy as np
+
+import summary  # benchmarks/summary.py (report.py puts it on the path)
 
 # Relaxation factors run.sh runs: the seed's plain update and the default.
 FACTORS = [("1", "1 (seed)"), ("auto", "auto (1.8, default)")]
@@ -84,11 +85,7 @@ def sections(work, results, patients):
                       f"{fmt(b[2] if b is not None else None)} | {row['sweeps']} |")
     md.append("")
     if rows:
-        with open(os.path.join(results, "patients_precision.csv"), "w",
-                  newline="") as out:
-            w = csv.DictWriter(out, fieldnames=list(rows[0].keys()))
-            w.writeheader()
-            w.writerows(rows)
+        summary.write_rows(os.path.join(results, "patients_precision.csv"), rows)
         md.append("CSV: [patients_precision.csv](patients_precision.csv).\n")
         md += seed_claim(rows)
     shown = next((p for p in patients

@@ -126,10 +126,7 @@ def main(work, results):
         print("patients: no results in", work)
         return 1
 
-    with open(os.path.join(results, "patients.csv"), "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
-        w.writeheader()
-        w.writerows(rows)
+    summary.write_rows(os.path.join(results, "patients.csv"), rows)
 
     md = []
     md.append("# Ten phantom patients after the seed's Table 2\n")

@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import render  # noqa: E402  (benchmarks/patients/render.py)
 import partners_figure  # noqa: E402
+import summary  # noqa: E402  (benchmarks/summary.py, on report.py's path)
 
 MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 SEED_NAMES = {"linear fem": "FEM", "mass tensor": "MTM", "mass spring": "MSM",
@@ -331,11 +332,7 @@ def exact_against_closest(data, row_of, results):
                        for k, e in zip(keys, v[1])}))
         md.append(f"| {p} | " + " | ".join(cells) + " |")
     md.append("")
-    with open(os.path.join(results, "patients_exact.csv"), "w",
-              newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(csv_rows[0].keys()))
-        w.writeheader()
-        w.writerows(csv_rows)
+    summary.write_rows(os.path.join(results, "patients_exact.csv"), csv_rows)
     md.append("CSV: [patients_exact.csv](patients_exact.csv).\n")
 
     fig, axes = plt.subplots(1, len(MODELS), figsize=(14, 3.8), sharey=True)
@@ -419,11 +416,7 @@ def sections(work, results, patients):
     for p, rows in data.items():
         for r in rows:
             csv_rows.append(dict(patient=p, **r))
-    with open(os.path.join(results, "patients_skin.csv"), "w",
-              newline="") as f:
-        w = csv.DictWriter(f, fieldnames=list(csv_rows[0].keys()))
-        w.writeheader()
-        w.writerows(csv_rows)
+    summary.write_rows(os.path.join(results, "patients_skin.csv"), csv_rows)
 
     md = ["## The predicted skins against the post-operative skins\n",
           "Every model's displacement is mapped onto the dense skin surface "

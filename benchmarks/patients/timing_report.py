@@ -152,14 +152,11 @@ def sections(work, results, patients):
               "update; linear FEM's is its CG iterations times the cost of "
               f"one (here {len(tets)} patients of {min(tets)} to {max(tets)} "
               "tetrahedra).\n")
-    with open(os.path.join(results, "patients_timing.csv"), "w",
-              newline="") as out:
-        keys = sorted({k for r in solvers for k in r},
-                      key=lambda k: list(solvers[0]).index(k)
-                      if k in solvers[0] else 99)
-        w = csv.DictWriter(out, fieldnames=keys)
-        w.writeheader()
-        w.writerows(solvers)
+    keys = sorted({k for r in solvers for k in r},
+                  key=lambda k: list(solvers[0]).index(k)
+                  if k in solvers[0] else 99)
+    summary.write_rows(os.path.join(results, "patients_timing.csv"), solvers,
+                       keys)
     md.append("CSV: [patients_timing.csv](patients_timing.csv).\n")
     figure(solvers, os.path.join(results, "patients_timing.png"))
     md.append("![what the solves repeat against size](patients_timing.png)\n")
@@ -238,14 +235,11 @@ def mapping_section(rows, results):
                   " and "
                   f"{np.mean([idw[p]['weights_per_point'] for p in both]):.2g}"
                   ".\n")
-    with open(os.path.join(results, "patients_mapping_parts.csv"), "w",
-              newline="") as out:
-        keys = []
-        for r in rows:
-            keys += [k for k in r if k not in keys]
-        w = csv.DictWriter(out, fieldnames=keys)
-        w.writeheader()
-        w.writerows(rows)
+    keys = []
+    for r in rows:
+        keys += [k for k in r if k not in keys]
+    summary.write_rows(os.path.join(results, "patients_mapping_parts.csv"),
+                       rows, keys)
     md.append("CSV: [patients_mapping_parts.csv]"
               "(patients_mapping_parts.csv).\n")
     return md
