@@ -4,11 +4,14 @@
 #include <deal.II/base/mpi.h>
 
 #include <softface/core/error.h>
+#include <softface/core/mesh_source.h>
 #include <softface/core/process.h>
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/models/interface.h>
+#include <softface/patient/commands.h>
 #include <softface/serve/serve.h>
+#include <softface/simulator/parameters.h>
 #include <softface/simulator/simulator.h>
 
 #include <chrono>
@@ -64,7 +67,12 @@ main(int argc, char **argv)
               std::cerr << usage;
               return 2;
             }
-          return softface::Simulator::run_patient_stages(argv[2], stage);
+          dealii::ParameterHandler prm;
+          softface::Simulator::read_parameters(argv[2], prm);
+          softface::OutputParameters output;
+          output.parse_parameters(prm);
+          return softface::Patient::run_command(
+            prm, argv[2], stage, output.directory, std::cout);
         }
       if (argc != 2)
         {
@@ -76,7 +84,9 @@ main(int argc, char **argv)
         {
           std::cout << usage << "\nmodels:\n"
                     << softface::Models::describe_registered() << "\neffects:\n"
-                    << softface::Effects::describe_registered();
+                    << softface::Effects::describe_registered()
+                    << "\nmesh sources:\n"
+                    << softface::MeshSources::describe_registered();
           return 0;
         }
       if (argument == "--print-parameters")

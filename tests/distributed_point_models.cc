@@ -210,7 +210,7 @@ namespace
 
   /// Who owns which points of a point model on the ranks.
   PointExchange
-  point_owners(const Models::PointMesh &mesh)
+  point_owners(const PointMesh &mesh)
   {
     const BlockColouring colouring(mesh.n_points(),
                                    mesh.row_start,
@@ -259,9 +259,9 @@ SOFTFACE_TEST(distributed_point_models)
   Scene one_face;
   make_cube_held_at_bottom(one_face, 8000);
   {
-    const Models::PointMesh mesh(one_face, "test");
-    const PointExchange     points    = point_owners(mesh);
-    bool                    owns_join = false, owns_fixed = false;
+    const PointMesh     mesh(one_face, "test");
+    const PointExchange points    = point_owners(mesh);
+    bool                owns_join = false, owns_fixed = false;
     for (unsigned int v = 0; v < one_face.n_vertices(); ++v)
       {
         const unsigned int p       = one_face.vertex_dofs()[v][0] / 3;

@@ -7,10 +7,10 @@
 // On the generated cube (rows nearly in order) and the shared gmsh cube
 // (tests/data/cube30k, irregular rows).
 
+#include <softface/core/point_mesh.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/fe/point_block_pattern.h>
-#include <softface/models/point_mesh.h>
 
 #include "peer.h"
 #include "scenes.h"
@@ -25,7 +25,7 @@ namespace
   {
     deallog << name << ": " << scene.triangulation.n_active_cells()
             << " cells, " << scene.dof_handler.n_dofs() << " DoFs" << std::endl;
-    const Models::PointMesh points(scene, "test");
+    const PointMesh         points(scene, "test");
     const PointBlockPattern pattern(points);
     SparsityPattern         ours, dealii;
     pattern.make_sparsity(ours);

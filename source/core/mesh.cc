@@ -128,154 +128,182 @@ namespace softface
                     number_text(edge_length) + " mm).");
     }
 
+    namespace
+    {
+      // The grid lines of the cube along each axis (the same for all three),
+      // with six tetrahedra per box as close to the target count as the
+      // grid allows.
+      std::vector<double>
+      cube_grid_lines(const CubeParameters &parameters)
+      {
+        const double L = parameters.edge_length, s = parameters.inner_size;
+        const double a = (L - s) / 2., b = a + s;
+
+        // Grid lines that include the inner cube's faces. Uniform grids space
+        // them about h in each of the three intervals. Graded grids (spacing
+        // h (1 + c d) at distance d from the nearest inner-face plane) place
+        // the lines of a stretch of length D leaving such a plane where the
+        // integral of 1 / spacing is a multiple of its total: geometric-like
+        // steps d_i = ((1 + c D)^(i/n) - 1) / c. Inside the inner cube the two
+        // halves grade towards its two faces.
+        const double c = (parameters.grading - 1.) / a;
+        // (Only for c > 0; the uniform grid keeps the seed's spacing below.)
+        const auto graded_steps = [c](const double D, const double h) {
+          const double       total = std::log1p(c * D);
+          const unsigned int n =
+            std::max<long>(1, std::lround(total / (c * h)));
+          std::vector<double> steps;
+          for (unsigned int i = 1; i <= n; ++i)
+            steps.push_back(i == n ? D : std::expm1(total * i / n) / c);
+          return steps;
+        };
+        const auto grid_lines = [&](const double h) {
+          std::vector<double> lines{0.};
+          if (c == 0.)
+            {
+              for (const auto &[from, to] : {std::make_pair(0., a),
+                                             std::make_pair(a, b),
+                                             std::make_pair(b, L)})
+                {
+                  // The mirror-symmetric split needs the mid planes as grid
+                  // planes: an even count across the inner cube.
+                  const unsigned int n =
+                    (parameters.mirror_symmetric && from == a) ?
+                      2 *
+                        std::max<long>(1, std::lround((to - from) / (2. * h))) :
+                      std::max<long>(1, std::lround((to - from) / h));
+                  for (unsigned int i = 1; i <= n; ++i)
+                    lines.push_back(i == n ? to : from + (to - from) * i / n);
+                }
+              return lines;
+            }
+          // From the outer face in to a: the steps leave a, so reverse them.
+          const auto outer = graded_steps(a, h);
+          for (auto d = outer.rbegin() + 1; d != outer.rend(); ++d)
+            lines.push_back(a - *d);
+          lines.push_back(a);
+          const auto half = graded_steps(s / 2., h);
+          for (unsigned int i = 0; i + 1 < half.size(); ++i)
+            lines.push_back(a + half[i]);
+          lines.push_back(a + s / 2.);
+          for (auto d = half.rbegin() + 1; d != half.rend(); ++d)
+            lines.push_back(b - *d);
+          lines.push_back(b);
+          for (unsigned int i = 0; i < outer.size(); ++i)
+            lines.push_back(i + 1 == outer.size() ? L : b + outer[i]);
+          return lines;
+        };
+        // Start from the uniform spacing, scaled for the graded grid by the
+        // ratio of line counts at that spacing; then search the spacing that
+        // brings six tetrahedra per box closest to the target count.
+        const double h_uniform =
+          std::cbrt(6. * L * L * L / parameters.target_n_tetrahedra);
+        const double h0 =
+          (c == 0.) ?
+            h_uniform :
+            h_uniform * (grid_lines(h_uniform).size() - 1.) * h_uniform / L;
+        std::vector<double> lines = grid_lines(h0);
+        for (double f = 0.8; f < 1.25; f += 0.005)
+          {
+            const auto candidate = grid_lines(h0 * f);
+            const auto n_tets    = [](const std::vector<double> &l) {
+              return 6. * std::pow(l.size() - 1., 3);
+            };
+            if (std::abs(n_tets(candidate) - parameters.target_n_tetrahedra) <
+                std::abs(n_tets(lines) - parameters.target_n_tetrahedra))
+              lines = candidate;
+          }
+        return lines;
+      }
+
+      // The cube's tetrahedra on the grid @p lines: six per box.
+      std::vector<CellData<3>>
+      kuhn_split(const CubeParameters        &parameters,
+                 const std::vector<double>   &lines,
+                 const std::vector<Point<3>> &vertices)
+      {
+        const double L = parameters.edge_length, s = parameters.inner_size;
+        const double a = (L - s) / 2., b = a + s;
+        const unsigned int n_lines = lines.size(), n_boxes = n_lines - 1;
+        const auto         index =
+          [n_lines](unsigned int i, unsigned int j, unsigned int k) {
+            return i + n_lines * (j + n_lines * k);
+          };
+
+        // Kuhn split: the six tetrahedra of a box share its main diagonal and
+        // follow the six paths along the box edges from its lowest to its
+        // highest corner. Every face diagonal then runs from the face's lowest
+        // to its highest corner in both neighbouring boxes: conforming. The
+        // mirror-symmetric split reflects this in each octant (paths start at
+        // the box corner nearest the centre): boxes on either side of a mid
+        // plane share faces in that plane, whose diagonals depend only on the
+        // other two directions, so the mesh stays conforming.
+        static const unsigned int paths[6][3] = {
+          {0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+        std::vector<CellData<3>> cells;
+        cells.reserve(6 * n_boxes * n_boxes * n_boxes);
+        for (unsigned int k = 0; k < n_boxes; ++k)
+          for (unsigned int j = 0; j < n_boxes; ++j)
+            for (unsigned int i = 0; i < n_boxes; ++i)
+              {
+                const Point<3> centre((lines[i] + lines[i + 1]) / 2.,
+                                      (lines[j] + lines[j + 1]) / 2.,
+                                      (lines[k] + lines[k + 1]) / 2.);
+                const bool     inner =
+                  (centre[0] > a && centre[0] < b && centre[1] > a &&
+                   centre[1] < b && centre[2] > a && centre[2] < b);
+                bool flip[3] = {false, false, false};
+                if (parameters.mirror_symmetric)
+                  for (unsigned int d = 0; d < 3; ++d)
+                    flip[d] = centre[d] > L / 2.;
+                for (const auto &path : paths)
+                  {
+                    unsigned int corner[3] = {i + flip[0],
+                                              j + flip[1],
+                                              k + flip[2]};
+                    CellData<3>  cell(4);
+                    cell.vertices[0] = index(corner[0], corner[1], corner[2]);
+                    for (unsigned int step = 0; step < 3; ++step)
+                      {
+                        if (flip[path[step]])
+                          --corner[path[step]];
+                        else
+                          ++corner[path[step]];
+                        cell.vertices[step + 1] =
+                          index(corner[0], corner[1], corner[2]);
+                      }
+                    const std::array<Point<3>, 4> x = {
+                      {vertices[cell.vertices[0]],
+                       vertices[cell.vertices[1]],
+                       vertices[cell.vertices[2]],
+                       vertices[cell.vertices[3]]}};
+                    if (Tetrahedron::signed_volume(x) < 0)
+                      std::swap(cell.vertices[1], cell.vertices[2]);
+                    cell.material_id = inner ? cube_inner_id :
+                                       centre[2] > L / 2. ?
+                                               parameters.upper_material_id :
+                                               cube_tissue_id;
+                    cells.push_back(cell);
+                  }
+              }
+        return cells;
+      }
+    } // namespace
+
     void
     generate_cube(const CubeParameters &parameters,
                   Triangulation<3>     &triangulation)
     {
-      const double L = parameters.edge_length, s = parameters.inner_size;
-      const double a = (L - s) / 2., b = a + s;
-
-      // Grid lines that include the inner cube's faces. Uniform grids space
-      // them about h in each of the three intervals. Graded grids (spacing
-      // h (1 + c d) at distance d from the nearest inner-face plane) place
-      // the lines of a stretch of length D leaving such a plane where the
-      // integral of 1 / spacing is a multiple of its total: geometric-like
-      // steps d_i = ((1 + c D)^(i/n) - 1) / c. Inside the inner cube the two
-      // halves grade towards its two faces.
-      const double c = (parameters.grading - 1.) / a;
-      // (Only for c > 0; the uniform grid keeps the seed's spacing below.)
-      const auto graded_steps = [c](const double D, const double h) {
-        const double        total = std::log1p(c * D);
-        const unsigned int  n = std::max<long>(1, std::lround(total / (c * h)));
-        std::vector<double> steps;
-        for (unsigned int i = 1; i <= n; ++i)
-          steps.push_back(i == n ? D : std::expm1(total * i / n) / c);
-        return steps;
-      };
-      const auto grid_lines = [&](const double h) {
-        std::vector<double> lines{0.};
-        if (c == 0.)
-          {
-            for (const auto &[from, to] : {std::make_pair(0., a),
-                                           std::make_pair(a, b),
-                                           std::make_pair(b, L)})
-              {
-                // The mirror-symmetric split needs the mid planes as grid
-                // planes: an even count across the inner cube.
-                const unsigned int n =
-                  (parameters.mirror_symmetric && from == a) ?
-                    2 * std::max<long>(1, std::lround((to - from) / (2. * h))) :
-                    std::max<long>(1, std::lround((to - from) / h));
-                for (unsigned int i = 1; i <= n; ++i)
-                  lines.push_back(i == n ? to : from + (to - from) * i / n);
-              }
-            return lines;
-          }
-        // From the outer face in to a: the steps leave a, so reverse them.
-        const auto outer = graded_steps(a, h);
-        for (auto d = outer.rbegin() + 1; d != outer.rend(); ++d)
-          lines.push_back(a - *d);
-        lines.push_back(a);
-        const auto half = graded_steps(s / 2., h);
-        for (unsigned int i = 0; i + 1 < half.size(); ++i)
-          lines.push_back(a + half[i]);
-        lines.push_back(a + s / 2.);
-        for (auto d = half.rbegin() + 1; d != half.rend(); ++d)
-          lines.push_back(b - *d);
-        lines.push_back(b);
-        for (unsigned int i = 0; i < outer.size(); ++i)
-          lines.push_back(i + 1 == outer.size() ? L : b + outer[i]);
-        return lines;
-      };
-      // Start from the uniform spacing, scaled for the graded grid by the
-      // ratio of line counts at that spacing; then search the spacing that
-      // brings six tetrahedra per box closest to the target count.
-      const double h_uniform =
-        std::cbrt(6. * L * L * L / parameters.target_n_tetrahedra);
-      const double h0 =
-        (c == 0.) ?
-          h_uniform :
-          h_uniform * (grid_lines(h_uniform).size() - 1.) * h_uniform / L;
-      std::vector<double> lines = grid_lines(h0);
-      for (double f = 0.8; f < 1.25; f += 0.005)
-        {
-          const auto candidate = grid_lines(h0 * f);
-          const auto n_tets    = [](const std::vector<double> &l) {
-            return 6. * std::pow(l.size() - 1., 3);
-          };
-          if (std::abs(n_tets(candidate) - parameters.target_n_tetrahedra) <
-              std::abs(n_tets(lines) - parameters.target_n_tetrahedra))
-            lines = candidate;
-        }
-      const unsigned int n_lines = lines.size(), n_boxes = n_lines - 1;
-
-      std::vector<Point<3>> vertices;
+      const std::vector<double> lines   = cube_grid_lines(parameters);
+      const unsigned int        n_lines = lines.size();
+      std::vector<Point<3>>     vertices;
       vertices.reserve(n_lines * n_lines * n_lines);
       for (unsigned int k = 0; k < n_lines; ++k)
         for (unsigned int j = 0; j < n_lines; ++j)
           for (unsigned int i = 0; i < n_lines; ++i)
             vertices.emplace_back(lines[i], lines[j], lines[k]);
-      const auto index =
-        [n_lines](unsigned int i, unsigned int j, unsigned int k) {
-          return i + n_lines * (j + n_lines * k);
-        };
-
-      // Kuhn split: the six tetrahedra of a box share its main diagonal and
-      // follow the six paths along the box edges from its lowest to its
-      // highest corner. Every face diagonal then runs from the face's lowest
-      // to its highest corner in both neighbouring boxes: conforming. The
-      // mirror-symmetric split reflects this in each octant (paths start at
-      // the box corner nearest the centre): boxes on either side of a mid
-      // plane share faces in that plane, whose diagonals depend only on the
-      // other two directions, so the mesh stays conforming.
-      static const unsigned int paths[6][3] = {
-        {0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-      std::vector<CellData<3>> cells;
-      cells.reserve(6 * n_boxes * n_boxes * n_boxes);
-      for (unsigned int k = 0; k < n_boxes; ++k)
-        for (unsigned int j = 0; j < n_boxes; ++j)
-          for (unsigned int i = 0; i < n_boxes; ++i)
-            {
-              const Point<3> centre((lines[i] + lines[i + 1]) / 2.,
-                                    (lines[j] + lines[j + 1]) / 2.,
-                                    (lines[k] + lines[k + 1]) / 2.);
-              const bool     inner =
-                (centre[0] > a && centre[0] < b && centre[1] > a &&
-                 centre[1] < b && centre[2] > a && centre[2] < b);
-              bool flip[3] = {false, false, false};
-              if (parameters.mirror_symmetric)
-                for (unsigned int d = 0; d < 3; ++d)
-                  flip[d] = centre[d] > L / 2.;
-              for (const auto &path : paths)
-                {
-                  unsigned int corner[3] = {i + flip[0],
-                                            j + flip[1],
-                                            k + flip[2]};
-                  CellData<3>  cell(4);
-                  cell.vertices[0] = index(corner[0], corner[1], corner[2]);
-                  for (unsigned int step = 0; step < 3; ++step)
-                    {
-                      if (flip[path[step]])
-                        --corner[path[step]];
-                      else
-                        ++corner[path[step]];
-                      cell.vertices[step + 1] =
-                        index(corner[0], corner[1], corner[2]);
-                    }
-                  const std::array<Point<3>, 4> x = {
-                    {vertices[cell.vertices[0]],
-                     vertices[cell.vertices[1]],
-                     vertices[cell.vertices[2]],
-                     vertices[cell.vertices[3]]}};
-                  if (Tetrahedron::signed_volume(x) < 0)
-                    std::swap(cell.vertices[1], cell.vertices[2]);
-                  cell.material_id = inner ? cube_inner_id :
-                                     centre[2] > L / 2. ?
-                                             parameters.upper_material_id :
-                                             cube_tissue_id;
-                  cells.push_back(cell);
-                }
-            }
+      const std::vector<CellData<3>> cells =
+        kuhn_split(parameters, lines, vertices);
 
       // The grid's lexicographic order is local already (and measured
       // faster than a Hilbert order of the same cells).

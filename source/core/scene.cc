@@ -10,12 +10,10 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
-#include <softface/core/on_rank_0.h>
+#include <softface/core/mesh_source.h>
 #include <softface/core/scene.h>
 #include <softface/core/sub_communicator.h>
-#include <softface/io/mesh_reader.h>
-#include <softface/patient/backend.h>
-#include <softface/patient/vec3_parameter.h>
+#include <softface/core/vec3_parameter.h>
 
 #include <boost/archive/binary_iarchive.hpp>
 #include <boost/archive/binary_oarchive.hpp>
@@ -27,7 +25,6 @@
 
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <iterator>
 #include <map>
 #include <numeric>
@@ -84,27 +81,6 @@ namespace softface
                             const std::vector<std::string> &cut_names)
   {
     prm.enter_subsection("Scene");
-    prm.declare_entry("Mesh source",
-                      "cube",
-                      Patterns::Selection("cube|file|patient"),
-                      "Where the tetrahedral mesh comes from: 'cube' generates "
-                      "the seed's cube benchmark (subsection Cube), 'file' "
-                      "reads 'Mesh file', 'patient' runs the patient pipeline "
-                      "(subsection Patient: CT or phantom -> segmentation -> "
-                      "osteotomy -> mesh); its segments are found by their "
-                      "'Seed point'.");
-    prm.declare_entry(
-      "Mesh file",
-      "",
-      Patterns::Anything(),
-      "Mesh to read when 'Mesh source = file': gmsh .msh "
-      "(ASCII formats 1, 2 or 4.1; physical volumes give material "
-      "ids, physical surfaces boundary ids), legacy VTK .vtk "
-      "(ASCII; cell data MaterialID), or VTK "
-      "XML .vtu (ascii, binary or appended raw, zlib or not; cell "
-      "data MaterialID, material_id or gmsh:physical). Relative "
-      "to the parameter file's folder. Coordinates are millimetres, "
-      "at most 1e9 in magnitude.");
     prm.declare_entry("Bone segments",
                       "fixed, bone",
                       Patterns::List(Patterns::Anything()),
@@ -112,7 +88,6 @@ namespace softface
                       "'Segment <name>' saying which vertices touch it; those "
                       "are its join points (seed 3.3). The defaults describe "
                       "the generated cube.");
-    Mesh::CubeParameters::declare_parameters(prm);
     for (const std::string &name : segment_names)
       {
         prm.enter_subsection("Segment " + name);
@@ -135,7 +110,7 @@ namespace softface
                           "touching that part are its join points.");
         prm.leave_subsection();
       }
-    Patient::PatientParameters::declare_parameters(prm, cut_names);
+    MeshSources::declare_parameters(prm, cut_names);
     prm.leave_subsection();
     Material::declare_parameters(prm);
   }
@@ -144,7 +119,7 @@ namespace softface
   Scene::cut_names(ParameterHandler &prm)
   {
     prm.enter_subsection("Scene");
-    const auto names = Patient::PatientParameters::cut_names(prm);
+    const auto names = MeshSources::names_from_first_pass(prm);
     prm.leave_subsection();
     return names;
   }
@@ -161,7 +136,7 @@ namespace softface
   void
   Scene::parse_parameters(ParameterHandler  &prm,
                           const std::string &input_directory,
-                          const std::string &patient_work_directory,
+                          const std::string &work_directory,
                           std::ostream      *log,
                           const MPI_Comm     mesh_readers)
   {
@@ -170,11 +145,6 @@ namespace softface
     holds_cells = mesh_readers != MPI_COMM_NULL;
 
     prm.enter_subsection("Scene");
-    const std::string    source = prm.get("Mesh source");
-    std::string          file   = prm.get("Mesh file");
-    Mesh::CubeParameters cube;
-    cube.parse_parameters(prm);
-
     segments.clear();
     for (const std::string &name :
          Utilities::split_string_list(prm.get("Bone segments")))
@@ -190,105 +160,21 @@ namespace softface
         if (!seed.empty())
           {
             const auto point =
-              Patient::parse_vec3(seed,
-                                  "Scene/Segment " + name + "/Seed point");
+              parse_vec3(seed, "Scene/Segment " + name + "/Seed point");
             segment.seed_point = {point[0], point[1], point[2]};
           }
         prm.leave_subsection();
         segments.push_back(segment);
       }
-    Patient::PatientParameters patient;
-    if (source == "patient")
-      patient.parse_parameters(prm, input_directory, patient_work_directory);
+    const auto source = MeshSources::create(prm);
+    source->parse_parameters(prm, input_directory, work_directory);
     prm.leave_subsection();
 
-    if (source == "cube")
-      {
-        if (holds_cells)
-          Mesh::generate_cube(cube, triangulation);
-        mesh_description = "generated cube";
-        cell_name        = {};
-      }
-    else if (source == "patient")
-      {
-        // The patient pipeline makes the mesh; each segment's join points
-        // are the faces touching its bone part.
-        std::vector<Patient::SegmentSeed> seeds;
-        for (const auto &segment : segments)
-          {
-            if (segment.seed_point.size() != 3)
-              throw Error("Scene/Segment " + segment.name +
-                          ": a patient scene's segment needs a 'Seed point' "
-                          "in its bone.");
-            seeds.push_back({segment.name,
-                             {{segment.seed_point[0],
-                               segment.seed_point[1],
-                               segment.seed_point[2]}}});
-          }
-        // On several MPI ranks rank 0 alone runs the pipeline, which writes
-        // its stages into the work directory (and Mesh_3 does not make the
-        // same mesh twice); the others read the mesh it wrote (issue 20),
-        // which must be on a file system they all see.
-        const MPI_Comm world   = MPI_COMM_WORLD;
-        const bool     several = Utilities::MPI::n_mpi_processes(world) > 1;
-        Patient::PatientModel model;
-        std::string           read_from; // absolute: the ranks' folders differ
-        on_rank_0(world, [&]() {
-          std::ostringstream quiet;
-          model =
-            Patient::backend().build_patient_model(patient,
-                                                   seeds,
-                                                   Patient::Stage::mesh,
-                                                   log != nullptr ? *log :
-                                                                    quiet);
-          read_from = std::filesystem::absolute(model.mesh_file).string();
-        });
-        if (several)
-          {
-            model.mesh_file = Utilities::MPI::broadcast(world, model.mesh_file);
-            read_from       = Utilities::MPI::broadcast(world, read_from);
-            model.segment_boundary_ids =
-              Utilities::MPI::broadcast(world, model.segment_boundary_ids);
-            model.figures = Utilities::MPI::broadcast(world, model.figures);
-          }
-        patient_figures = model.figures;
-        if (holds_cells)
-          cell_name = Mesh::read_file_on_every_rank(mesh_readers,
-                                                    read_from,
-                                                    triangulation);
-        if (several && holds_cells)
-          {
-            // An older mesh of the same name on a rank's own disk would
-            // pass silently: the ranks compare what they read.
-            double checksum = triangulation.n_active_cells();
-            for (const auto &vertex : triangulation.get_vertices())
-              checksum += vertex[0] + 2. * vertex[1] + 3. * vertex[2];
-            const bool differs =
-              checksum != Utilities::MPI::broadcast(mesh_readers, checksum);
-            if (Utilities::MPI::max(int(differs), mesh_readers) != 0)
-              throw Error("Scene: the ranks read different meshes from '" +
-                          read_from +
-                          "', which rank 0's patient pipeline wrote: the "
-                          "patient's work directory must be on a file "
-                          "system every rank sees.");
-          }
-        resolve_shared_join_points = true;
-        for (unsigned int s = 0; s < segments.size(); ++s)
-          for (const auto id : model.segment_boundary_ids[s])
-            segments[s].boundary_ids.insert(id);
-        mesh_description = "'" + model.mesh_file + "' (patient)";
-      }
-    else
-      {
-        if (file.empty())
-          throw Error("Scene: 'Mesh source = file' needs a 'Mesh file'.");
-        if (file[0] != '/' && !input_directory.empty())
-          file = input_directory + "/" + file;
-        if (holds_cells)
-          cell_name =
-            Mesh::read_file_on_every_rank(mesh_readers, file, triangulation);
-        mesh_description = "'" + file + "'";
-      }
+    auto made = source->make_mesh(segments, triangulation, mesh_readers, log);
+    mesh_description           = made.description;
+    cell_name                  = std::move(made.cell_name);
+    resolve_shared_join_points = made.resolve_shared_join_points;
+    patient_figures            = std::move(made.figures);
     if (holds_cells)
       setup();
   }

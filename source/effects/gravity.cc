@@ -8,8 +8,8 @@
 
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
+#include <softface/core/vec3_parameter.h>
 #include <softface/effects/interface.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <cmath>
 #include <map>
@@ -59,7 +59,7 @@ namespace softface
       void
       parse_parameters(ParameterHandler &prm) override
       {
-        const auto g = Patient::parse_vec3(prm.get("Gravity"), "Gravity");
+        const auto g = parse_vec3(prm.get("Gravity"), "Gravity");
         for (unsigned int d = 0; d < 3; ++d)
           gravity[d] = g[d];
         densities = parse_material_values("Densities", prm.get("Densities"));

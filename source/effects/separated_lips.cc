@@ -5,8 +5,8 @@
 #include <deal.II/grid/tria_iterator.h>
 
 #include <softface/core/error.h>
+#include <softface/core/vec3_parameter.h>
 #include <softface/effects/interface.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <array>
@@ -66,9 +66,8 @@ namespace softface
         const std::string point_text = prm.get("Slit point");
         if (point_text.empty())
           throw Error("Slit point: give a point of the slit plane.");
-        const auto p = Patient::parse_vec3(point_text, "Slit point");
-        const auto n =
-          Patient::parse_vec3(prm.get("Slit normal"), "Slit normal");
+        const auto p = parse_vec3(point_text, "Slit point");
+        const auto n = parse_vec3(prm.get("Slit normal"), "Slit normal");
         for (unsigned int d = 0; d < 3; ++d)
           point[d] = p[d], normal[d] = n[d];
         if (!(normal.norm() > 0.))

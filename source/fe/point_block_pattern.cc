@@ -7,7 +7,7 @@
 
 namespace softface
 {
-  PointBlockPattern::PointBlockPattern(const Models::PointMesh &points)
+  PointBlockPattern::PointBlockPattern(const PointMesh &points)
       : points(points)
   {
     // Places are unsigned int, as the nonlinear FEM stores them.

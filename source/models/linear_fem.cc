@@ -4,12 +4,12 @@
 
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
+#include <softface/core/point_mesh.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/distributed_elasticity.h>
 #include <softface/fe/elasticity.h>
 #include <softface/fe/point_block_pattern.h>
 #include <softface/models/linear_fem.h>
-#include <softface/models/point_mesh.h>
 
 #include <sstream>
 

@@ -141,10 +141,10 @@ namespace softface
                         "equations (by the sparse direct solver) and report "
                         "the largest and mean distance of a free point to it "
                         "(the seed's minimal and mean precision, Table 1). "
-                        "When linear fem ran the same plan before it in the "
-                        "run (Models/Models lists it first), its answer is "
-                        "that answer, to its solver's tolerance, and is used "
-                        "instead.");
+                        "When Models/Models also lists linear fem (which "
+                        "then runs first, wherever it is listed), its answer "
+                        "is that answer, to its solver's tolerance, and is "
+                        "used instead.");
       prm.declare_entry(
         "Precision history file",
         "",

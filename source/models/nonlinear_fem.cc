@@ -2,13 +2,13 @@
 // layout: its discretisation (cell geometry, closed-form forces and tangent
 // added straight into the matrix); the Newton solve is NonlinearElasticity's.
 
+#include <softface/core/point_mesh.h>
 #include <softface/core/release.h>
 #include <softface/core/threads.h>
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/fe/point_block_pattern.h>
 #include <softface/models/nonlinear_fem.h>
-#include <softface/models/point_mesh.h>
 
 #include <algorithm>
 

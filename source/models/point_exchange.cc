@@ -18,7 +18,7 @@ namespace softface
 {
   std::vector<unsigned int>
   PointExchange::block_ranges(const BlockColouring      &colouring,
-                              const Models::PointMesh   &mesh,
+                              const PointMesh           &mesh,
                               const unsigned int         n_ranks,
                               const std::vector<double> &block_work)
   {
@@ -50,7 +50,7 @@ namespace softface
   }
 
   PointExchange::PointExchange(const BlockColouring      &colouring,
-                               const Models::PointMesh   &mesh,
+                               const PointMesh           &mesh,
                                const MPI_Comm             communicator,
                                const std::vector<double> &block_work)
       : communicator(communicator)
@@ -188,7 +188,7 @@ namespace softface
   }
 
   std::vector<char>
-  points_to_update(const Models::PointMesh &mesh, const PointExchange *exchange)
+  points_to_update(const PointMesh &mesh, const PointExchange *exchange)
   {
     std::vector<char> update(mesh.n_points());
     for (unsigned int j = 0; j < update.size(); ++j)

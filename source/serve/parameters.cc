@@ -4,12 +4,19 @@
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
+#include <softface/core/parameter_sections.h>
 #include <softface/serve/parameters.h>
 
 namespace softface
 {
   namespace Serve
   {
+    namespace
+    {
+      [[maybe_unused]] const bool registered_section =
+        register_parameter_section("Serve", &Parameters::declare_parameters);
+    } // namespace
+
     void
     Parameters::declare_parameters(ParameterHandler &prm)
     {

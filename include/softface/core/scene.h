@@ -214,16 +214,19 @@ namespace softface
     Scene();
 
     /**
-     * The Scene and Material sections. One subsection "Segment <name>" is
-     * declared for each name in @p segment_names, and one "Cut <name>" of
-     * the patient's osteotomy for each name in @p cut_names.
+     * The Scene and Material sections, with every mesh source's entries.
+     * One subsection "Segment <name>" is declared for each name in
+     * @p segment_names; @p cut_names are what the mesh sources read in a
+     * first pass (cut_names(): the patient's osteotomy declares one "Cut
+     * <name>" for each).
      */
     static void
     declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &segment_names,
                        const std::vector<std::string> &cut_names = {});
 
-    /// The names listed in "Scene/Patient/Osteotomy/Cuts".
+    /// What the mesh sources read in a first pass: the names listed in
+    /// "Scene/Patient/Osteotomy/Cuts".
     static std::vector<std::string>
     cut_names(ParameterHandler &prm);
 
@@ -232,12 +235,13 @@ namespace softface
     segment_names(ParameterHandler &prm);
 
     /**
-     * Read the parameters, create or read the mesh (a relative mesh file
-     * name is taken relative to @p input_directory; a patient's is made by
-     * the patient pipeline in @p patient_work_directory unless the scene
-     * names one, with its progress on @p log) and call setup(). For a
-     * patient scene under MPI this is collective on MPI_COMM_WORLD: rank 0
-     * runs the pipeline and every rank reads the mesh it wrote.
+     * Read the parameters, let the mesh source 'Mesh source' names make the
+     * mesh (include/softface/core/mesh_source.h: a relative mesh file name
+     * is taken relative to @p input_directory; a patient's is made by the
+     * patient pipeline in @p work_directory unless the scene names one,
+     * with its progress on @p log) and call setup(). For a patient scene
+     * under MPI this is collective on MPI_COMM_WORLD: rank 0 runs the
+     * pipeline and every rank reads the mesh it wrote.
      *
      * A read mesh is read by the ranks of @p mesh_readers (collectively;
      * rank 0 of MPI_COMM_WORLD among them). On a rank where it is
@@ -247,9 +251,9 @@ namespace softface
     void
     parse_parameters(ParameterHandler  &prm,
                      const std::string &input_directory,
-                     const std::string &patient_work_directory = "patient",
-                     std::ostream      *log                    = nullptr,
-                     const MPI_Comm     mesh_readers = MPI_COMM_WORLD);
+                     const std::string &work_directory = "patient",
+                     std::ostream      *log            = nullptr,
+                     const MPI_Comm     mesh_readers   = MPI_COMM_WORLD);
 
     /**
      * Whether this rank holds the scene's cells (its triangulation and

@@ -3,7 +3,7 @@
 
 #include <deal.II/lac/sparsity_pattern.h>
 
-#include <softface/models/point_mesh.h>
+#include <softface/core/point_mesh.h>
 
 #include <array>
 #include <vector>
@@ -31,8 +31,8 @@ namespace softface
   {
   public:
     /// On the points and neighbours of @p points (referred to, not copied).
-    explicit PointBlockPattern(const Models::PointMesh &points);
-    PointBlockPattern(Models::PointMesh &&) = delete;
+    explicit PointBlockPattern(const PointMesh &points);
+    PointBlockPattern(PointMesh &&) = delete;
 
     /// Entries of the pattern (9 per pair of neighbours and per point).
     std::size_t
@@ -52,7 +52,7 @@ namespace softface
     cell_positions(const unsigned int cell, unsigned int *positions) const;
 
   private:
-    const Models::PointMesh &points;
+    const PointMesh &points;
   };
 } // namespace softface
 

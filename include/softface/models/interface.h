@@ -25,12 +25,10 @@ namespace softface
   class SharedDistributedLayout;
   class BlockColouring;
   class PointExchange;
-
+  struct PointMesh;
 
   namespace Models
   {
-    struct PointMesh;
-
     /**
      * One of a model's own figures (sweeps, precision, Newton iterations per
      * load step, ...), printed under the summary table and written to

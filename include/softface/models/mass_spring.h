@@ -1,8 +1,8 @@
 #ifndef softface_models_mass_spring_h
 #define softface_models_mass_spring_h
 
+#include <softface/core/point_mesh.h>
 #include <softface/models/interface.h>
-#include <softface/models/point_mesh.h>
 
 #include <array>
 #include <memory>

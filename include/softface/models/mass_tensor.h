@@ -6,12 +6,12 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/sparsity_pattern.h>
 
+#include <softface/core/point_mesh.h>
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/vertex_constraints.h>
 #include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/interface.h>
-#include <softface/models/point_mesh.h>
 
 #include <array>
 #include <memory>

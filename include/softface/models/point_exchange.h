@@ -4,8 +4,8 @@
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/partitioner.h>
 
+#include <softface/core/point_mesh.h>
 #include <softface/models/block_colouring.h>
-#include <softface/models/point_mesh.h>
 
 #include <memory>
 #include <vector>
@@ -48,7 +48,7 @@ namespace softface
      * every rank; none by default). Collective.
      */
     PointExchange(const BlockColouring      &colouring,
-                  const Models::PointMesh   &mesh,
+                  const PointMesh           &mesh,
                   const MPI_Comm             communicator,
                   const std::vector<double> &block_work = {});
 
@@ -57,7 +57,7 @@ namespace softface
     /// does.
     static std::vector<unsigned int>
     block_ranges(const BlockColouring      &colouring,
-                 const Models::PointMesh   &mesh,
+                 const PointMesh           &mesh,
                  const unsigned int         n_ranks,
                  const std::vector<double> &block_work = {});
 
@@ -158,8 +158,7 @@ namespace softface
   /// The points a model updates on this rank: @p mesh's free points, with
   /// an @p exchange (several ranks) those of them this rank owns.
   std::vector<char>
-  points_to_update(const Models::PointMesh &mesh,
-                   const PointExchange     *exchange);
+  points_to_update(const PointMesh &mesh, const PointExchange *exchange);
 
   /// @p local summed, or its largest value, over the ranks of @p exchange;
   /// @p local itself without one (one rank). Collective.

@@ -18,12 +18,6 @@ namespace softface
 {
   class SkinOutput;
 
-  namespace Patient
-  {
-    struct PatientParameters;
-    struct SegmentSeed;
-  } // namespace Patient
-
   using namespace dealii;
 
   /**
@@ -91,35 +85,6 @@ namespace softface
     SkinOutput *
     skin() const;
 
-    /**
-     * Run the patient stages of the scene in @p filename up to @p stage
-     * ("phantom", "segment" or "mesh"; the subcommands of the same names),
-     * writing their files into the patient work directory; or, after them,
-     * "postop" (a post-operative skull: each bone part moved by the scene's
-     * Planning) or "plan" (each bone part registered to the post-operative
-     * skull by ICP from the scene's Planning, written as planning.prm); or
-     * "register" (the post-operative CT of Scene/Patient/Registration
-     * registered to the pre-operative one, written with the post-operative
-     * surfaces carried into the pre-operative frame into the output
-     * directory: Patient::register_post_operative). Returns the process
-     * exit code.
-     */
-    static int
-    run_patient_stages(const std::string &filename,
-                       const std::string &stage,
-                       std::ostream      &out = std::cout);
-
-  private:
-    /// The stages postop and plan (see run_patient_stages).
-    static int
-    plan_from_skull(ParameterHandler                        &prm,
-                    const std::string                       &filename,
-                    const std::string                       &stage,
-                    const Patient::PatientParameters        &patient,
-                    const std::vector<Patient::SegmentSeed> &seeds,
-                    std::ostream                            &out);
-
-  public:
     /// After run(): the scene, every model's run and the reference model.
     const Scene &
     scene() const;
@@ -129,6 +94,38 @@ namespace softface
     reference_model() const;
 
   private:
+    /// The steps of prepare(), in order.
+    void
+    create_plugins(const std::string &filename);
+    /// Returns the name of a model or effect that needs the scene's cells
+    /// on every rank (empty if none does).
+    std::string
+    build_scene(const std::string &filename, std::ostream &out);
+    void
+    describe_scene(const std::string &needs_cells,
+                   double             seconds,
+                   std::ostream      &out) const;
+    void
+    prepare_evaluation_points(std::ostream &out);
+    void
+    prepare_skin(const std::string &filename, std::ostream &out);
+    void
+    write_inputs(const std::string &filename, std::ostream &out);
+    void
+    check_planning_scale(const std::string &filename) const;
+
+    /// After each plan a model answered: its skins and evaluation points.
+    void
+    hand_to_outputs(const Report::ModelRun &run,
+                    Models::Interface      &model,
+                    bool                    from_basis);
+    /// summary.csv, statistics, the fields (vtu or pvtu), the skins.
+    void
+    write_outputs(std::ostream &out) const;
+    /// The outputs written, the wall time and the peak memory.
+    void
+    print_closing(std::ostream &out) const;
+
     struct Prepared;
     // The scene outlives what is prepared on it (models hold DoF handlers
     // on its triangulation): declared first, destroyed last.

@@ -6,8 +6,8 @@
 #include <deal.II/base/utilities.h>
 
 #include <softface/core/error.h>
+#include <softface/core/vec3_parameter.h>
 #include <softface/patient/pipeline.h>
-#include <softface/patient/vec3_parameter.h>
 
 #include <algorithm>
 #include <cmath>
@@ -53,6 +53,125 @@ namespace softface
         std::ostringstream s;
         s << std::setprecision(4) << x;
         return s.str();
+      }
+
+      // The Scene/Patient/Segmentation subsection.
+      void
+      declare_segmentation_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Segmentation");
+        prm.declare_entry("Smoothing",
+                          "0.5",
+                          Patterns::Double(0.),
+                          "Gaussian smoothing (mm) before the thresholds.");
+        prm.declare_entry("Body threshold",
+                          "-480",
+                          Patterns::Double(),
+                          "HU between air and skin.");
+        prm.declare_entry("Bone threshold",
+                          "520",
+                          Patterns::Double(),
+                          "HU between soft tissue and bone (the phantom's "
+                          "midpoint; real scans often want 250-400).");
+        prm.declare_entry("Fat threshold",
+                          "-30",
+                          Patterns::Double(),
+                          "HU between fat and muscle.");
+        prm.declare_entry("Skin thickness",
+                          "2",
+                          Patterns::Double(0.),
+                          "Soft tissue within this depth (mm) of the body "
+                          "surface is skin.");
+        prm.declare_entry("Minimum bone volume",
+                          "50",
+                          Patterns::Double(0.),
+                          "Bone pieces smaller than this (mm^3) are noise.");
+        prm.leave_subsection();
+      }
+
+      // The Scene/Patient/Region of interest subsection.
+      void
+      declare_region_of_interest(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Region of interest");
+        prm.declare_entry(
+          "Box",
+          "-1e9, -1e9, -1e9; 1e9, 1e9, 1e9",
+          Patterns::Anything(),
+          "The zone of the face that deforms (seed 3.1): 'xmin, "
+          "ymin, zmin; xmax, ymax, zmax' in the patient frame "
+          "(mm).");
+        prm.declare_entry(
+          "Planes",
+          "",
+          Patterns::Anything(),
+          "Further cuts of the region: 'px, py, pz, nx, ny, nz; "
+          "...' (a point and the outward normal; the side the "
+          "normal points to is left out).");
+        prm.leave_subsection();
+      }
+
+      // The Scene/Patient/Mesh subsection.
+      void
+      declare_mesh_parameters(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Mesh");
+        prm.declare_entry(
+          "Target number of tetrahedra",
+          "100000",
+          Patterns::Integer(1000, 5000000),
+          "About how many tetrahedra (the cell size follows from "
+          "the soft tissue's volume), unless a cell size is "
+          "given.");
+        prm.declare_entry("Cell size",
+                          "0",
+                          Patterns::Double(0.),
+                          "Largest circumradius of a tetrahedron (mm); 0: from "
+                          "the target number.");
+        prm.declare_entry(
+          "Facet distance",
+          "1",
+          Patterns::Double(0.01),
+          "Largest distance (mm) between a boundary face and the "
+          "segmented surface.");
+        prm.declare_entry("Facet angle",
+                          "30",
+                          Patterns::Double(1., 30.),
+                          "Smallest angle of a boundary face (degrees).");
+        prm.declare_entry("Radius-edge ratio",
+                          "3",
+                          Patterns::Double(2.),
+                          "Largest circumradius / shortest edge of a "
+                          "tetrahedron.");
+        prm.declare_entry(
+          "Optimisation safety limit",
+          "600",
+          Patterns::Double(0.),
+          "Wall-clock seconds after which CGAL's sliver perturbation or "
+          "exudation ends the run with an error (0: no limit). Each runs until "
+          "every dihedral angle reaches the sliver bound or no move improves "
+          "the worst one, so the mesh is the same on an idle or a busy "
+          "machine; "
+          "the limit only stops a run that would take too long.");
+        prm.declare_entry(
+          "Conforming tissue interfaces",
+          "false",
+          Patterns::Bool(),
+          "Mesh the interfaces between skin, fat and muscle as "
+          "well; false meshes the soft tissue as one domain and "
+          "gives each tetrahedron the tissue at its centroid "
+          "(better tetrahedra where a layer is thinner than a "
+          "cell, like the 2 mm skin).");
+        prm.declare_entry("Sliver bound",
+                          "12",
+                          Patterns::Double(0., 30.),
+                          "The smallest dihedral angle (degrees) CGAL's sliver "
+                          "perturbation and exudation aim at.");
+        prm.declare_entry("Seed",
+                          "1",
+                          Patterns::Integer(0),
+                          "Seed of CGAL's random numbers.");
+        prm.leave_subsection();
       }
     } // namespace
 
@@ -108,105 +227,9 @@ namespace softface
                         "(usually the fixed cranium); empty: those faces are "
                         "free.");
       PhantomParameters::declare_parameters(prm);
-
-      prm.enter_subsection("Segmentation");
-      prm.declare_entry("Smoothing",
-                        "0.5",
-                        Patterns::Double(0.),
-                        "Gaussian smoothing (mm) before the thresholds.");
-      prm.declare_entry("Body threshold",
-                        "-480",
-                        Patterns::Double(),
-                        "HU between air and skin.");
-      prm.declare_entry("Bone threshold",
-                        "520",
-                        Patterns::Double(),
-                        "HU between soft tissue and bone (the phantom's "
-                        "midpoint; real scans often want 250-400).");
-      prm.declare_entry("Fat threshold",
-                        "-30",
-                        Patterns::Double(),
-                        "HU between fat and muscle.");
-      prm.declare_entry("Skin thickness",
-                        "2",
-                        Patterns::Double(0.),
-                        "Soft tissue within this depth (mm) of the body "
-                        "surface is skin.");
-      prm.declare_entry("Minimum bone volume",
-                        "50",
-                        Patterns::Double(0.),
-                        "Bone pieces smaller than this (mm^3) are noise.");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Region of interest");
-      prm.declare_entry("Box",
-                        "-1e9, -1e9, -1e9; 1e9, 1e9, 1e9",
-                        Patterns::Anything(),
-                        "The zone of the face that deforms (seed 3.1): 'xmin, "
-                        "ymin, zmin; xmax, ymax, zmax' in the patient frame "
-                        "(mm).");
-      prm.declare_entry("Planes",
-                        "",
-                        Patterns::Anything(),
-                        "Further cuts of the region: 'px, py, pz, nx, ny, nz; "
-                        "...' (a point and the outward normal; the side the "
-                        "normal points to is left out).");
-      prm.leave_subsection();
-
-      prm.enter_subsection("Mesh");
-      prm.declare_entry("Target number of tetrahedra",
-                        "100000",
-                        Patterns::Integer(1000, 5000000),
-                        "About how many tetrahedra (the cell size follows from "
-                        "the soft tissue's volume), unless a cell size is "
-                        "given.");
-      prm.declare_entry("Cell size",
-                        "0",
-                        Patterns::Double(0.),
-                        "Largest circumradius of a tetrahedron (mm); 0: from "
-                        "the target number.");
-      prm.declare_entry("Facet distance",
-                        "1",
-                        Patterns::Double(0.01),
-                        "Largest distance (mm) between a boundary face and the "
-                        "segmented surface.");
-      prm.declare_entry("Facet angle",
-                        "30",
-                        Patterns::Double(1., 30.),
-                        "Smallest angle of a boundary face (degrees).");
-      prm.declare_entry("Radius-edge ratio",
-                        "3",
-                        Patterns::Double(2.),
-                        "Largest circumradius / shortest edge of a "
-                        "tetrahedron.");
-      prm.declare_entry(
-        "Optimisation safety limit",
-        "600",
-        Patterns::Double(0.),
-        "Wall-clock seconds after which CGAL's sliver perturbation or "
-        "exudation ends the run with an error (0: no limit). Each runs until "
-        "every dihedral angle reaches the sliver bound or no move improves "
-        "the worst one, so the mesh is the same on an idle or a busy machine; "
-        "the limit only stops a run that would take too long.");
-      prm.declare_entry("Conforming tissue interfaces",
-                        "false",
-                        Patterns::Bool(),
-                        "Mesh the interfaces between skin, fat and muscle as "
-                        "well; false meshes the soft tissue as one domain and "
-                        "gives each tetrahedron the tissue at its centroid "
-                        "(better tetrahedra where a layer is thinner than a "
-                        "cell, like the 2 mm skin).");
-      prm.declare_entry("Sliver bound",
-                        "12",
-                        Patterns::Double(0., 30.),
-                        "The smallest dihedral angle (degrees) CGAL's sliver "
-                        "perturbation and exudation aim at.");
-      prm.declare_entry("Seed",
-                        "1",
-                        Patterns::Integer(0),
-                        "Seed of CGAL's random numbers.");
-      prm.leave_subsection();
-
+      declare_segmentation_parameters(prm);
+      declare_region_of_interest(prm);
+      declare_mesh_parameters(prm);
       OsteotomyParameters::declare_parameters(prm, cut_names);
       RegistrationStageParameters::declare_parameters(prm);
       prm.leave_subsection();
