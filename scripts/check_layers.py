@@ -6,10 +6,11 @@ The layers, lowest first (README, Layout):
     core < io < fe < mapping, validation < models, effects, patient,
     outputs, mesh_sources < simulator < serve < app
 
-A file of a layer may include softface headers of its own layer and of the
-layers below it. An include of a higher layer is an error, listed with the
-file and line; the exit code is the number of such includes (0: the layers
-hold). Run from anywhere:
+A file of a layer may include softface headers (#include <softface/...>) of
+its own layer and of the layers below it. An include of a higher layer, or
+of a folder that has no layer here, is an error, listed with the file and
+line; the exit code is the number of such includes (0: the layers hold).
+Run from anywhere:
 
     scripts/check_layers.py
 """
@@ -21,7 +22,7 @@ LAYERS = [["core"], ["io"], ["fe"], ["mapping", "validation"],
           ["models", "effects", "patient", "outputs", "mesh_sources"],
           ["simulator"], ["serve"], ["app"]]
 LEVEL = {system: i for i, systems in enumerate(LAYERS) for system in systems}
-INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]softface/([a-z_]+)/')
+INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]\s*softface/([A-Za-z_]+)/')
 
 
 def system_of(path):
@@ -59,7 +60,12 @@ def main():
                         if not match:
                             continue
                         target = match.group(1)
-                        if LEVEL.get(target, -1) > LEVEL[system]:
+                        if target not in LEVEL:
+                            errors.append(
+                                f"{path}:{number}: includes the folder "
+                                f"'{target}', which has no layer in "
+                                f"scripts/check_layers.py: {line.strip()}")
+                        elif LEVEL[target] > LEVEL[system]:
                             errors.append(
                                 f"{path}:{number}: {system} includes "
                                 f"{target} (a layer above it): "

@@ -142,9 +142,9 @@ namespace softface
                         "the largest and mean distance of a free point to it "
                         "(the seed's minimal and mean precision, Table 1). "
                         "When Models/Models also lists linear fem (which "
-                        "then runs first, wherever it is listed), its answer "
-                        "is that answer, to its solver's tolerance, and is "
-                        "used instead.");
+                        "then runs before the mass tensor model, wherever it "
+                        "is listed), its answer is that answer, to its "
+                        "solver's tolerance, and is used instead.");
       prm.declare_entry(
         "Precision history file",
         "",

@@ -112,6 +112,453 @@ namespace softface
         dealii::Utilities::System::get_memory_stats(stats);
         return stats.VmHWM / 1024.;
       }
+
+      /**
+       * One build of a patient model, stage by stage: each stage reuses
+       * its files in the work folder while its stamp (the build of
+       * softface and every input the stage reads, its predecessors'
+       * included) is unchanged, and adds its figures to the model.
+       */
+      class Stages
+      {
+      public:
+        Stages(const PatientParameters        &prm,
+               const std::vector<SegmentSeed> &segments,
+               std::ostream                   &log)
+            : prm(prm)
+            , segments(segments)
+            , log(log)
+            , work(prm.work_directory)
+        {
+          fs::create_directories(work);
+        }
+
+        /// 1. The CT: the phantom's acquisition or the patient's file.
+        void
+        ct_stage();
+        /// 2. Labels and the dense skin and skull surfaces.
+        void
+        segmentation_stage();
+        /// 3. Bone parts and the tetrahedral mesh of the region of
+        /// interest.
+        void
+        mesh_stage();
+        /// The segments' boundary ids, the peak memory; the model.
+        PatientModel
+        finish();
+
+        PatientModel model;
+
+      private:
+        /// What the mesh stage reads: its stamp.
+        std::string
+        mesh_stamp() const;
+
+        void
+        figure(const std::string &name, const std::string &value)
+        {
+          model.figures.emplace_back(name, value);
+        }
+
+        // A stage's figures are kept beside its files, so that a reused
+        // stage reports what it made.
+        void
+        save_figures(const std::string &stage, const std::size_t first)
+        {
+          std::ofstream out(work / (stage + ".figures"));
+          for (std::size_t i = first; i < model.figures.size(); ++i)
+            out << model.figures[i].first << '\t' << model.figures[i].second
+                << '\n';
+        }
+
+        void
+        load_figures(const std::string &stage)
+        {
+          std::ifstream in(work / (stage + ".figures"));
+          std::string   line;
+          while (std::getline(in, line))
+            {
+              const auto tab = line.find('\t');
+              if (tab != std::string::npos)
+                model.figures.emplace_back(line.substr(0, tab),
+                                           line.substr(tab + 1));
+            }
+        }
+
+        std::string
+        file(const std::string &name) const
+        {
+          return (work / name).string();
+        }
+
+        const PatientParameters        &prm;
+        const std::vector<SegmentSeed> &segments;
+        std::ostream                   &log;
+        const fs::path                  work;
+        StageClock                      clock;
+        CTVolume                        ct;
+        std::string                     ct_stamp;
+        LabelVolume                     labels;
+        std::string                     labels_stamp;
+      };
+
+      void
+      Stages::ct_stage()
+      {
+        // 1. The CT: the phantom's acquisition, or the patient's file. Every
+        // stamp starts with the build that makes the stages (which changes
+        // with the phantom's anatomy and the mesher's code alike).
+        const std::string build = build_stamp();
+        clock                   = StageClock();
+        if (prm.ct_volume.empty())
+          {
+            const auto &p = prm.phantom;
+            ct_stamp      = build + stamp_of("phantom",
+                                        p.voxel_size,
+                                        p.field_of_view[0],
+                                        p.field_of_view[1],
+                                        p.field_of_view[2],
+                                        p.centre[0],
+                                        p.centre[1],
+                                        p.centre[2],
+                                        p.face_width,
+                                        p.face_height,
+                                        p.soft_tissue_thickness,
+                                        p.mandible_length,
+                                        p.mandible_angle,
+                                        p.profile,
+                                        p.jaw_discrepancy,
+                                        p.noise,
+                                        p.blur,
+                                        p.metal_streaks,
+                                        p.seed);
+            if (prm.reuse &&
+                up_to_date(work / "ct.stamp",
+                           ct_stamp,
+                           {file("ct.nii.gz"), file("truth_labels.nii.gz")}))
+              {
+                ct = read_ct(file("ct.nii.gz"));
+                load_figures("ct");
+                log << "    phantom CT: reused " << file("ct.nii.gz")
+                    << std::endl;
+              }
+            else
+              {
+                LabelVolume truth;
+                Phantom(p).acquire(ct, truth);
+                write_atomically(work / "ct.nii.gz", [&](const std::string &f) {
+                  write_volume(ct, f);
+                });
+                write_atomically(work / "truth_labels.nii.gz",
+                                 [&](const std::string &f) {
+                                   write_volume(truth, f);
+                                 });
+                std::ofstream(work / "ct.stamp") << ct_stamp;
+                log << "    phantom CT: " << ct.size[0] << " x " << ct.size[1]
+                    << " x " << ct.size[2] << " voxels of " << p.voxel_size
+                    << " mm (" << std::fixed << std::setprecision(1)
+                    << clock.seconds() << " s)" << std::defaultfloat
+                    << std::endl;
+                figure("phantom s", number(clock.seconds()));
+                save_figures("ct", model.figures.size() - 1);
+              }
+          }
+        else
+          {
+            try
+              {
+                ct = read_ct(prm.ct_volume);
+              }
+            catch (const Error &e)
+              {
+                throw Error(std::string("Scene/Patient/CT volume: ") +
+                            e.what());
+              }
+            ct_stamp = build + stamp_of("file", file_stamp(prm.ct_volume));
+            log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
+                << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
+          }
+        figure("CT voxels",
+               std::to_string(ct.size[0]) + " x " + std::to_string(ct.size[1]) +
+                 " x " + std::to_string(ct.size[2]));
+        figure("voxel mm", number(ct.spacing[0]));
+      }
+
+      void
+      Stages::segmentation_stage()
+      {
+        // 2. Labels and the dense skin and skull surfaces.
+        clock         = StageClock();
+        const auto &s = prm.segmentation;
+        labels_stamp  = ct_stamp + stamp_of("segmentation",
+                                           prm.label_volume.empty() ?
+                                              std::string("softface") :
+                                              file_stamp(prm.label_volume),
+                                           s.smoothing,
+                                           s.body_threshold,
+                                           s.bone_threshold,
+                                           s.fat_threshold,
+                                           s.skin_thickness,
+                                           s.min_bone_volume);
+        if (prm.reuse && up_to_date(work / "labels.stamp",
+                                    labels_stamp,
+                                    {file("labels.nii.gz"),
+                                     file("skin.vtp"),
+                                     file("skull.vtp")}))
+          {
+            labels = read_labels(file("labels.nii.gz"));
+            load_figures("labels");
+            log << "    segmentation: reused " << file("labels.nii.gz")
+                << std::endl;
+          }
+        else
+          {
+            Volume<float> body_field, bone_field;
+            double body_level = s.body_threshold, bone_level = s.bone_threshold;
+            if (prm.label_volume.empty())
+              {
+                auto result =
+                  segment(ct,
+                          s,
+                          prm.ct_volume.empty() ? std::string("phantom") :
+                                                  prm.ct_volume);
+                labels     = std::move(result.labels);
+                body_field = std::move(result.smoothed);
+              }
+            else
+              {
+                try
+                  {
+                    labels = read_labels(prm.label_volume);
+                  }
+                catch (const Error &e)
+                  {
+                    throw Error(std::string("Scene/Patient/Label volume: ") +
+                                e.what());
+                  }
+                if (labels.size != ct.size)
+                  throw Error("Scene/Patient/Label volume '" +
+                              prm.label_volume +
+                              "' does not have the CT's size.");
+                // Surfaces of one's own labels: the masks' half-way levels.
+                body_field.reinit_like(labels);
+                for (std::size_t v = 0; v < labels.n_voxels(); ++v)
+                  body_field.values[v] = (labels.values[v] != outside_body);
+                body_level = 0.5;
+              }
+            if (prm.label_volume.empty())
+              bone_field = body_field;
+            else
+              {
+                bone_field.reinit_like(labels);
+                for (std::size_t v = 0; v < labels.n_voxels(); ++v)
+                  bone_field.values[v] = (labels.values[v] == bone_tissue);
+                bone_level = 0.5;
+              }
+            const TriangleSurface skin =
+              iso_surface(body_field, body_level, true);
+            const TriangleSurface skull =
+              iso_surface(bone_field, bone_level, false, 200);
+            write_atomically(work / "labels.nii.gz", [&](const std::string &f) {
+              write_volume(labels, f);
+            });
+            for (const std::string ext : {".ply", ".vtp"})
+              {
+                write_atomically(work / ("skin" + ext),
+                                 [&](const std::string &f) {
+                                   write_surface(skin, f);
+                                 });
+                write_atomically(work / ("skull" + ext),
+                                 [&](const std::string &f) {
+                                   write_surface(skull, f);
+                                 });
+              }
+            std::ofstream(work / "labels.stamp") << labels_stamp;
+            const std::size_t first = model.figures.size();
+            figure("skin vertices", std::to_string(skin.points.size()));
+            figure("skull vertices", std::to_string(skull.points.size()));
+            figure("segmentation s", number(clock.seconds()));
+            save_figures("labels", first);
+            log << "    segmentation: skin " << skin.points.size()
+                << " vertices, skull " << skull.points.size() << " vertices ("
+                << std::fixed << std::setprecision(1) << clock.seconds()
+                << " s)" << std::defaultfloat << std::endl;
+          }
+        {
+          std::vector<std::size_t> count(6, 0);
+          for (const auto l : labels.values)
+            if (l < 6)
+              ++count[l];
+          const char *names[6] = {
+            "", "skin", "fat", "muscle", "bone", "internal"};
+          for (unsigned int l = 1; l < 6; ++l)
+            figure(std::string(names[l]) + " cm3",
+                   number(count[l] * labels.voxel_volume() / 1000.));
+        }
+      }
+
+      std::string
+      Stages::mesh_stamp() const
+      {
+        std::ostringstream inputs;
+        inputs << std::setprecision(17) << "mesh\n";
+        for (const auto &seed : segments)
+          inputs << seed.name << ' ' << seed.point[0] << ' ' << seed.point[1]
+                 << ' ' << seed.point[2] << '\n';
+        for (const auto &cut : prm.osteotomy.cuts)
+          {
+            inputs << cut.name << ' ' << cut.type;
+            for (const auto &v :
+                 {cut.point, cut.normal, cut.sweep, cut.box_min, cut.box_max})
+              inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
+            for (const auto &v : cut.polyline)
+              inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
+            // Only a margin of the cut's own, so that the stamps of scenes
+            // made before cuts had one still hold.
+            if (cut.detached_margin != prm.osteotomy.detached_margin)
+              inputs << " margin " << cut.detached_margin;
+            inputs << '\n';
+          }
+        inputs << prm.osteotomy.kerf << ' ' << prm.osteotomy.detached_margin
+               << ' ' << prm.osteotomy.min_part_volume << '\n';
+        for (const auto &v : {prm.roi.box_min, prm.roi.box_max})
+          inputs << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
+        for (const auto &[p, n] : prm.roi.planes)
+          inputs << p[0] << ' ' << p[1] << ' ' << p[2] << ' ' << n[0] << ' '
+                 << n[1] << ' ' << n[2] << '\n';
+        const auto &m = prm.mesh;
+        inputs << m.cell_size << ' ' << m.target_n_tetrahedra << ' '
+               << m.facet_distance << ' ' << m.facet_angle << ' '
+               << m.radius_edge_ratio << ' ' << m.sliver_bound << ' '
+               << m.conforming_interfaces << ' ' << m.seed << '\n';
+        return labels_stamp + inputs.str();
+      }
+
+      void
+      Stages::mesh_stage()
+      {
+        // 3. Bone parts and the tetrahedral mesh of the region of interest.
+        clock                        = StageClock();
+        const std::string mesh_stamp = this->mesh_stamp();
+        model.mesh_file              = file("mesh.vtu");
+        std::vector<std::size_t> contact_faces(segments.size(), 0);
+        if (prm.reuse &&
+            up_to_date(work / "mesh.stamp",
+                       mesh_stamp,
+                       {file("mesh.vtu"), file("bone_parts.nii.gz")}))
+          {
+            load_figures("mesh");
+            log << "    mesh: reused " << model.mesh_file << std::endl;
+          }
+        else
+          {
+            const LabelVolume parts =
+              split_bone(labels, bone_tissue, prm.osteotomy, segments);
+            const double    split_seconds = clock.seconds();
+            TetrahedralMesh mesh;
+            try
+              {
+                mesh = make_tetrahedral_mesh(labels,
+                                             {skin_tissue,
+                                              fat_tissue,
+                                              muscle_tissue},
+                                             bone_tissue,
+                                             parts,
+                                             prm.roi,
+                                             prm.mesh);
+              }
+            catch (const Error &)
+              {
+                throw;
+              }
+            catch (const std::exception &e)
+              {
+                throw Error(std::string("Mesh: CGAL could not mesh the soft "
+                                        "tissue: ") +
+                            e.what());
+              }
+            for (const auto id : mesh.boundary_ids)
+              if (id >= first_bone_boundary_id &&
+                  id - first_bone_boundary_id < segments.size())
+                ++contact_faces[id - first_bone_boundary_id];
+            for (unsigned int s = 0; s < segments.size(); ++s)
+              if (contact_faces[s] == 0)
+                throw Error("Segment '" + segments[s].name +
+                            "': its bone part touches no soft tissue of the "
+                            "mesh, so it would have no join point; move the "
+                            "cuts or the region of interest, or drop the "
+                            "segment.");
+            write_atomically(work / "bone_parts.nii.gz",
+                             [&](const std::string &f) {
+                               write_volume(parts, f);
+                             });
+            write_atomically(work / "mesh.msh",
+                             [&](const std::string &f) { mesh.write_msh(f); });
+            write_atomically(work / "mesh.vtu",
+                             [&](const std::string &f) { mesh.write_vtu(f); });
+            std::ofstream(work / "mesh.stamp") << mesh_stamp;
+
+            const auto q = mesh.quality();
+            // The segmented soft tissue the mesh stands for.
+            std::size_t n_soft = 0;
+            for (std::size_t k = 0; k < labels.size[2]; ++k)
+              for (std::size_t j = 0; j < labels.size[1]; ++j)
+                for (std::size_t i = 0; i < labels.size[0]; ++i)
+                  {
+                    const auto l = labels(i, j, k);
+                    n_soft += (l == skin_tissue || l == fat_tissue ||
+                               l == muscle_tissue) &&
+                              prm.roi.contains(labels.point(i, j, k));
+                  }
+            const double      soft_volume = n_soft * labels.voxel_volume();
+            const std::size_t first       = model.figures.size();
+            figure("tetrahedra", std::to_string(mesh.cells.size()));
+            figure("mesh vertices", std::to_string(mesh.points.size()));
+            figure("min dihedral deg", number(q.min_dihedral_angle));
+            figure("worst radius ratio", number(q.worst_radius_ratio));
+            figure("sliver perturbation", mesh.perturbation_outcome);
+            figure("sliver exudation", mesh.exudation_outcome);
+            figure("mesh volume cm3", number(q.volume / 1000.));
+            figure("soft tissue in region cm3", number(soft_volume / 1000.));
+            figure("bone split s", number(split_seconds));
+            figure("mesh s", number(clock.seconds() - split_seconds));
+            for (unsigned int s = 0; s < segments.size(); ++s)
+              figure("contact faces " + segments[s].name,
+                     std::to_string(contact_faces[s]));
+            save_figures("mesh", first);
+            log << "    mesh: " << mesh.cells.size() << " tetrahedra, "
+                << mesh.points.size() << " vertices, smallest dihedral angle "
+                << number(q.min_dihedral_angle, 3) << " degrees, volume "
+                << number(q.volume / 1000.) << " cm^3 of "
+                << number(soft_volume / 1000.) << " cm^3 segmented ("
+                << std::fixed << std::setprecision(1) << clock.seconds()
+                << " s)" << std::defaultfloat << std::endl;
+          }
+      }
+
+      PatientModel
+      Stages::finish()
+      {
+        figure("peak memory MB", number(peak_memory_mb()));
+
+        model.segment_boundary_ids.resize(segments.size());
+        for (unsigned int s = 0; s < segments.size(); ++s)
+          {
+            model.segment_boundary_ids[s].push_back(first_bone_boundary_id + s);
+            if (segments[s].name == prm.cut_held_by)
+              model.segment_boundary_ids[s].push_back(cut_boundary_id);
+          }
+        if (!prm.cut_held_by.empty())
+          {
+            bool found = false;
+            for (const auto &seed : segments)
+              found |= seed.name == prm.cut_held_by;
+            if (!found)
+              throw Error("Scene/Patient/Cut held by: '" + prm.cut_held_by +
+                          "' is not one of the scene's bone segments.");
+          }
+        return model;
+      }
     } // namespace
 
     PatientModel
@@ -128,378 +575,16 @@ namespace softface
                         const Stage                     last_stage,
                         std::ostream                   &log)
     {
-      const fs::path work(prm.work_directory);
-      fs::create_directories(work);
-      PatientModel model;
-      const auto   figure = [&](const std::string &name,
-                              const std::string &value) {
-        model.figures.emplace_back(name, value);
-      };
-      // A stage's figures are kept beside its files, so that a reused
-      // stage reports what it made.
-      const auto save_figures = [&](const std::string &stage,
-                                    const std::size_t  first) {
-        std::ofstream out(work / (stage + ".figures"));
-        for (std::size_t i = first; i < model.figures.size(); ++i)
-          out << model.figures[i].first << '\t' << model.figures[i].second
-              << '\n';
-      };
-      const auto load_figures = [&](const std::string &stage) {
-        std::ifstream in(work / (stage + ".figures"));
-        std::string   line;
-        while (std::getline(in, line))
-          {
-            const auto tab = line.find('\t');
-            if (tab != std::string::npos)
-              model.figures.emplace_back(line.substr(0, tab),
-                                         line.substr(tab + 1));
-          }
-      };
-      const auto file = [&](const std::string &name) {
-        return (work / name).string();
-      };
-
-      // 1. The CT: the phantom's acquisition, or the patient's file. Every
-      // stamp starts with the build that makes the stages (which changes
-      // with the phantom's anatomy and the mesher's code alike).
-      const std::string build = build_stamp();
-      StageClock        clock;
-      CTVolume          ct;
-      std::string       ct_stamp;
-      if (prm.ct_volume.empty())
-        {
-          const auto &p = prm.phantom;
-          ct_stamp      = build + stamp_of("phantom",
-                                      p.voxel_size,
-                                      p.field_of_view[0],
-                                      p.field_of_view[1],
-                                      p.field_of_view[2],
-                                      p.centre[0],
-                                      p.centre[1],
-                                      p.centre[2],
-                                      p.face_width,
-                                      p.face_height,
-                                      p.soft_tissue_thickness,
-                                      p.mandible_length,
-                                      p.mandible_angle,
-                                      p.profile,
-                                      p.jaw_discrepancy,
-                                      p.noise,
-                                      p.blur,
-                                      p.metal_streaks,
-                                      p.seed);
-          if (prm.reuse &&
-              up_to_date(work / "ct.stamp",
-                         ct_stamp,
-                         {file("ct.nii.gz"), file("truth_labels.nii.gz")}))
-            {
-              ct = read_ct(file("ct.nii.gz"));
-              load_figures("ct");
-              log << "    phantom CT: reused " << file("ct.nii.gz")
-                  << std::endl;
-            }
-          else
-            {
-              LabelVolume truth;
-              Phantom(p).acquire(ct, truth);
-              write_atomically(work / "ct.nii.gz", [&](const std::string &f) {
-                write_volume(ct, f);
-              });
-              write_atomically(work / "truth_labels.nii.gz",
-                               [&](const std::string &f) {
-                                 write_volume(truth, f);
-                               });
-              std::ofstream(work / "ct.stamp") << ct_stamp;
-              log << "    phantom CT: " << ct.size[0] << " x " << ct.size[1]
-                  << " x " << ct.size[2] << " voxels of " << p.voxel_size
-                  << " mm (" << std::fixed << std::setprecision(1)
-                  << clock.seconds() << " s)" << std::defaultfloat << std::endl;
-              figure("phantom s", number(clock.seconds()));
-              save_figures("ct", model.figures.size() - 1);
-            }
-        }
-      else
-        {
-          try
-            {
-              ct = read_ct(prm.ct_volume);
-            }
-          catch (const Error &e)
-            {
-              throw Error(std::string("Scene/Patient/CT volume: ") + e.what());
-            }
-          ct_stamp = build + stamp_of("file", file_stamp(prm.ct_volume));
-          log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
-              << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
-        }
-      figure("CT voxels",
-             std::to_string(ct.size[0]) + " x " + std::to_string(ct.size[1]) +
-               " x " + std::to_string(ct.size[2]));
-      figure("voxel mm", number(ct.spacing[0]));
+      Stages stages(prm, segments, log);
+      stages.ct_stage();
       if (last_stage == Stage::phantom)
-        return model;
-
-      // 2. Labels and the dense skin and skull surfaces.
-      clock               = StageClock();
-      const auto       &s = prm.segmentation;
-      const std::string labels_stamp =
-        ct_stamp + stamp_of("segmentation",
-                            prm.label_volume.empty() ?
-                              std::string("softface") :
-                              file_stamp(prm.label_volume),
-                            s.smoothing,
-                            s.body_threshold,
-                            s.bone_threshold,
-                            s.fat_threshold,
-                            s.skin_thickness,
-                            s.min_bone_volume);
-      LabelVolume labels;
-      if (prm.reuse && up_to_date(work / "labels.stamp",
-                                  labels_stamp,
-                                  {file("labels.nii.gz"),
-                                   file("skin.vtp"),
-                                   file("skull.vtp")}))
-        {
-          labels = read_labels(file("labels.nii.gz"));
-          load_figures("labels");
-          log << "    segmentation: reused " << file("labels.nii.gz")
-              << std::endl;
-        }
-      else
-        {
-          Volume<float> body_field, bone_field;
-          double body_level = s.body_threshold, bone_level = s.bone_threshold;
-          if (prm.label_volume.empty())
-            {
-              auto result =
-                segment(ct,
-                        s,
-                        prm.ct_volume.empty() ? std::string("phantom") :
-                                                prm.ct_volume);
-              labels     = std::move(result.labels);
-              body_field = std::move(result.smoothed);
-            }
-          else
-            {
-              try
-                {
-                  labels = read_labels(prm.label_volume);
-                }
-              catch (const Error &e)
-                {
-                  throw Error(std::string("Scene/Patient/Label volume: ") +
-                              e.what());
-                }
-              if (labels.size != ct.size)
-                throw Error("Scene/Patient/Label volume '" + prm.label_volume +
-                            "' does not have the CT's size.");
-              // Surfaces of one's own labels: the masks' half-way levels.
-              body_field.reinit_like(labels);
-              for (std::size_t v = 0; v < labels.n_voxels(); ++v)
-                body_field.values[v] = (labels.values[v] != outside_body);
-              body_level = 0.5;
-            }
-          if (prm.label_volume.empty())
-            bone_field = body_field;
-          else
-            {
-              bone_field.reinit_like(labels);
-              for (std::size_t v = 0; v < labels.n_voxels(); ++v)
-                bone_field.values[v] = (labels.values[v] == bone_tissue);
-              bone_level = 0.5;
-            }
-          const TriangleSurface skin =
-            iso_surface(body_field, body_level, true);
-          const TriangleSurface skull =
-            iso_surface(bone_field, bone_level, false, 200);
-          write_atomically(work / "labels.nii.gz", [&](const std::string &f) {
-            write_volume(labels, f);
-          });
-          for (const std::string ext : {".ply", ".vtp"})
-            {
-              write_atomically(work / ("skin" + ext),
-                               [&](const std::string &f) {
-                                 write_surface(skin, f);
-                               });
-              write_atomically(work / ("skull" + ext),
-                               [&](const std::string &f) {
-                                 write_surface(skull, f);
-                               });
-            }
-          std::ofstream(work / "labels.stamp") << labels_stamp;
-          const std::size_t first = model.figures.size();
-          figure("skin vertices", std::to_string(skin.points.size()));
-          figure("skull vertices", std::to_string(skull.points.size()));
-          figure("segmentation s", number(clock.seconds()));
-          save_figures("labels", first);
-          log << "    segmentation: skin " << skin.points.size()
-              << " vertices, skull " << skull.points.size() << " vertices ("
-              << std::fixed << std::setprecision(1) << clock.seconds() << " s)"
-              << std::defaultfloat << std::endl;
-        }
-      {
-        std::vector<std::size_t> count(6, 0);
-        for (const auto l : labels.values)
-          if (l < 6)
-            ++count[l];
-        const char *names[6] = {
-          "", "skin", "fat", "muscle", "bone", "internal"};
-        for (unsigned int l = 1; l < 6; ++l)
-          figure(std::string(names[l]) + " cm3",
-                 number(count[l] * labels.voxel_volume() / 1000.));
-      }
+        return stages.model;
+      stages.segmentation_stage();
       if (last_stage == Stage::segmentation)
-        return model;
-
-      // 3. Bone parts and the tetrahedral mesh of the region of interest.
-      clock = StageClock();
-      std::ostringstream inputs;
-      inputs << std::setprecision(17) << "mesh\n";
-      for (const auto &seed : segments)
-        inputs << seed.name << ' ' << seed.point[0] << ' ' << seed.point[1]
-               << ' ' << seed.point[2] << '\n';
-      for (const auto &cut : prm.osteotomy.cuts)
-        {
-          inputs << cut.name << ' ' << cut.type;
-          for (const auto &v :
-               {cut.point, cut.normal, cut.sweep, cut.box_min, cut.box_max})
-            inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
-          for (const auto &v : cut.polyline)
-            inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
-          // Only a margin of the cut's own, so that the stamps of scenes
-          // made before cuts had one still hold.
-          if (cut.detached_margin != prm.osteotomy.detached_margin)
-            inputs << " margin " << cut.detached_margin;
-          inputs << '\n';
-        }
-      inputs << prm.osteotomy.kerf << ' ' << prm.osteotomy.detached_margin
-             << ' ' << prm.osteotomy.min_part_volume << '\n';
-      for (const auto &v : {prm.roi.box_min, prm.roi.box_max})
-        inputs << v[0] << ' ' << v[1] << ' ' << v[2] << '\n';
-      for (const auto &[p, n] : prm.roi.planes)
-        inputs << p[0] << ' ' << p[1] << ' ' << p[2] << ' ' << n[0] << ' '
-               << n[1] << ' ' << n[2] << '\n';
-      const auto &m = prm.mesh;
-      inputs << m.cell_size << ' ' << m.target_n_tetrahedra << ' '
-             << m.facet_distance << ' ' << m.facet_angle << ' '
-             << m.radius_edge_ratio << ' ' << m.sliver_bound << ' '
-             << m.conforming_interfaces << ' ' << m.seed << '\n';
-      const std::string mesh_stamp = labels_stamp + inputs.str();
-
-      model.mesh_file = file("mesh.vtu");
-      std::vector<std::size_t> contact_faces(segments.size(), 0);
-      if (prm.reuse &&
-          up_to_date(work / "mesh.stamp",
-                     mesh_stamp,
-                     {file("mesh.vtu"), file("bone_parts.nii.gz")}))
-        {
-          load_figures("mesh");
-          log << "    mesh: reused " << model.mesh_file << std::endl;
-        }
-      else
-        {
-          const LabelVolume parts =
-            split_bone(labels, bone_tissue, prm.osteotomy, segments);
-          const double    split_seconds = clock.seconds();
-          TetrahedralMesh mesh;
-          try
-            {
-              mesh =
-                make_tetrahedral_mesh(labels,
-                                      {skin_tissue, fat_tissue, muscle_tissue},
-                                      bone_tissue,
-                                      parts,
-                                      prm.roi,
-                                      prm.mesh);
-            }
-          catch (const Error &)
-            {
-              throw;
-            }
-          catch (const std::exception &e)
-            {
-              throw Error(std::string("Mesh: CGAL could not mesh the soft "
-                                      "tissue: ") +
-                          e.what());
-            }
-          for (const auto id : mesh.boundary_ids)
-            if (id >= first_bone_boundary_id &&
-                id - first_bone_boundary_id < segments.size())
-              ++contact_faces[id - first_bone_boundary_id];
-          for (unsigned int s = 0; s < segments.size(); ++s)
-            if (contact_faces[s] == 0)
-              throw Error("Segment '" + segments[s].name +
-                          "': its bone part touches no soft tissue of the "
-                          "mesh, so it would have no join point; move the "
-                          "cuts or the region of interest, or drop the "
-                          "segment.");
-          write_atomically(work / "bone_parts.nii.gz",
-                           [&](const std::string &f) {
-                             write_volume(parts, f);
-                           });
-          write_atomically(work / "mesh.msh",
-                           [&](const std::string &f) { mesh.write_msh(f); });
-          write_atomically(work / "mesh.vtu",
-                           [&](const std::string &f) { mesh.write_vtu(f); });
-          std::ofstream(work / "mesh.stamp") << mesh_stamp;
-
-          const auto q = mesh.quality();
-          // The segmented soft tissue the mesh stands for.
-          std::size_t n_soft = 0;
-          for (std::size_t k = 0; k < labels.size[2]; ++k)
-            for (std::size_t j = 0; j < labels.size[1]; ++j)
-              for (std::size_t i = 0; i < labels.size[0]; ++i)
-                {
-                  const auto l = labels(i, j, k);
-                  n_soft += (l == skin_tissue || l == fat_tissue ||
-                             l == muscle_tissue) &&
-                            prm.roi.contains(labels.point(i, j, k));
-                }
-          const double      soft_volume = n_soft * labels.voxel_volume();
-          const std::size_t first       = model.figures.size();
-          figure("tetrahedra", std::to_string(mesh.cells.size()));
-          figure("mesh vertices", std::to_string(mesh.points.size()));
-          figure("min dihedral deg", number(q.min_dihedral_angle));
-          figure("worst radius ratio", number(q.worst_radius_ratio));
-          figure("sliver perturbation", mesh.perturbation_outcome);
-          figure("sliver exudation", mesh.exudation_outcome);
-          figure("mesh volume cm3", number(q.volume / 1000.));
-          figure("soft tissue in region cm3", number(soft_volume / 1000.));
-          figure("bone split s", number(split_seconds));
-          figure("mesh s", number(clock.seconds() - split_seconds));
-          for (unsigned int s = 0; s < segments.size(); ++s)
-            figure("contact faces " + segments[s].name,
-                   std::to_string(contact_faces[s]));
-          save_figures("mesh", first);
-          log << "    mesh: " << mesh.cells.size() << " tetrahedra, "
-              << mesh.points.size() << " vertices, smallest dihedral angle "
-              << number(q.min_dihedral_angle, 3) << " degrees, volume "
-              << number(q.volume / 1000.) << " cm^3 of "
-              << number(soft_volume / 1000.) << " cm^3 segmented ("
-              << std::fixed << std::setprecision(1) << clock.seconds() << " s)"
-              << std::defaultfloat << std::endl;
-        }
-      figure("peak memory MB", number(peak_memory_mb()));
-
-      model.segment_boundary_ids.resize(segments.size());
-      for (unsigned int s = 0; s < segments.size(); ++s)
-        {
-          model.segment_boundary_ids[s].push_back(first_bone_boundary_id + s);
-          if (segments[s].name == prm.cut_held_by)
-            model.segment_boundary_ids[s].push_back(cut_boundary_id);
-        }
-      if (!prm.cut_held_by.empty())
-        {
-          bool found = false;
-          for (const auto &seed : segments)
-            found |= seed.name == prm.cut_held_by;
-          if (!found)
-            throw Error("Scene/Patient/Cut held by: '" + prm.cut_held_by +
-                        "' is not one of the scene's bone segments.");
-        }
-      return model;
+        return stages.model;
+      stages.mesh_stage();
+      return stages.finish();
     }
-
 
     // Registration of a post-operative CT ('softface register').
 

@@ -34,11 +34,11 @@ namespace softface
                                   &models,
     std::vector<Report::ModelRun> &model_runs)
   {
-    runs                         = &model_runs;
-    n_failed                     = 0;
-    const unsigned int n_plans   = plannings.plans.size();
-    const std::size_t  first_run = model_runs.size();
-    const auto         order     = run_order(models);
+    runs                       = &model_runs;
+    n_failed                   = 0;
+    first_run                  = model_runs.size();
+    const unsigned int n_plans = plannings.plans.size();
+    const auto         order   = run_order(models);
     for (unsigned int k = 0; k < order.size(); ++k)
       {
         auto &[name, model]   = models[order[k]];
@@ -273,7 +273,7 @@ namespace softface
     const std::function<bool(const Report::ModelRun &)> &wanted) const
   {
     const unsigned int n_plans = plannings.plans.size();
-    for (std::size_t r = p; r < runs->size(); r += n_plans)
+    for (std::size_t r = first_run + p; r < runs->size(); r += n_plans)
       if (!(*runs)[r].failed && wanted((*runs)[r]))
         return &(*runs)[r].displacement;
     return nullptr;

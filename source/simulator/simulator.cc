@@ -141,7 +141,7 @@ namespace softface
   }
 
   void
-  Simulator::write_outputs(std::ostream &out) const
+  Simulator::write_outputs(std::ostream &out)
   {
     const Scene       &scene  = *the_scene;
     const auto        &output = state->output;
@@ -150,7 +150,13 @@ namespace softface
     if (state->writes_outputs)
       {
         if (state->skin)
-          state->skin->write(out);
+          {
+            std::vector<std::string> labels;
+            for (const auto &run : model_runs)
+              labels.push_back(run.label());
+            state->skin->order_rows(labels);
+            state->skin->write(out);
+          }
         Report::write_summary_csv(scene,
                                   model_runs,
                                   reference,

@@ -327,6 +327,18 @@ namespace softface
   }
 
   void
+  SkinOutput::order_rows(const std::vector<std::string> &labels)
+  {
+    const auto position = [&labels](const Row &row) {
+      return std::find(labels.begin(), labels.end(), row.model) -
+             labels.begin();
+    };
+    std::stable_sort(rows.begin(), rows.end(), [&](const Row &a, const Row &b) {
+      return position(a) < position(b);
+    });
+  }
+
+  void
   SkinOutput::add_model(const std::string    &model,
                         const Scene          &scene,
                         const Vector<double> &displacement)

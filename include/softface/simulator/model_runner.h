@@ -101,8 +101,9 @@ namespace softface
     solve(Models::Interface &model, unsigned int p, Report::ModelRun &run);
 
     /**
-     * The answer of an earlier model to plan @p p that @p wanted accepts
-     * (every earlier model has a run per plan, in order), or nullptr.
+     * The answer of a model that ran earlier to plan @p p that @p wanted
+     * accepts (every model that ran has a run per plan, in order), or
+     * nullptr.
      */
     const Vector<double> *
     earlier_answer(
@@ -129,8 +130,10 @@ namespace softface
     std::ostream                  &out;
     std::ostream                  &err;
     AfterRun                       after_run;
-    std::vector<Report::ModelRun> *runs     = nullptr;
-    unsigned int                   n_failed = 0;
+    std::vector<Report::ModelRun> *runs = nullptr;
+    /// Where this run_all() began appending to *runs.
+    std::size_t  first_run = 0;
+    unsigned int n_failed  = 0;
   };
 } // namespace softface
 

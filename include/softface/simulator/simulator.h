@@ -121,7 +121,7 @@ namespace softface
                     bool                    from_basis);
     /// summary.csv, statistics, the fields (vtu or pvtu), the skins.
     void
-    write_outputs(std::ostream &out) const;
+    write_outputs(std::ostream &out);
     /// The outputs written, the wall time and the peak memory.
     void
     print_closing(std::ostream &out) const;

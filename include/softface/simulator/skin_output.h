@@ -77,6 +77,11 @@ namespace softface
               const Scene          &scene,
               const Vector<double> &displacement);
 
+    /// Put the rows in the order of @p labels (the runs' labels as the
+    /// scene lists the models; they are added in the order the models run).
+    void
+    order_rows(const std::vector<std::string> &labels);
+
     /// skin.csv and the table on @p out.
     void
     write(std::ostream &out) const;
