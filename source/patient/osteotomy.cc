@@ -80,52 +80,36 @@ namespace softface
       return best;
     }
 
-    LabelVolume
-    split_bone(const LabelVolume              &labels,
-               const std::uint8_t              bone_label,
-               const OsteotomyParameters      &prm,
-               const std::vector<SegmentSeed> &segments)
+    namespace
     {
-      const std::size_t n    = labels.n_voxels();
-      const auto       &size = labels.size;
-      // A kerf narrower than a voxel may fall between two layers of voxel
-      // centres and separate nothing: it is at least one voxel wide.
-      const double kerf = std::max(prm.kerf,
-                                   1.01 * std::max({labels.spacing[0],
-                                                    labels.spacing[1],
-                                                    labels.spacing[2]}));
-      // Bone outside the kerfs: what the cuts leave connected.
-      std::vector<std::uint8_t> state(n, 0); // 0 no bone, 1 bone, 2 kerf
-      std::vector<bool>         detached(n, false);
-      for (std::size_t k = 0; k < size[2]; ++k)
-        for (std::size_t j = 0; j < size[1]; ++j)
-          for (std::size_t i = 0; i < size[0]; ++i)
-            {
-              const std::size_t v = labels.index(i, j, k);
-              if (labels.values[v] != bone_label)
-                continue;
-              state[v]     = 1;
-              const Vec3 x = labels.point(i, j, k);
-              for (const Cut &cut : prm.cuts)
-                {
-                  const double d = cut.distance(x);
-                  if (d < 0.5 * kerf)
-                    state[v] = 2;
-                  if (d < cut.detached_margin)
-                    detached[v] = true;
-                }
-            }
+      /// Per voxel: 0 no bone, 1 bone outside the kerfs, 2 bone in a kerf;
+      /// and whether the voxel lies within a cut's detached margin.
+      struct BoneState
+      {
+        std::vector<std::uint8_t> state;
+        std::vector<bool>         detached;
+      };
 
-      // Connected pieces (face neighbours) of the uncut bone.
-      const long       stride[3] = {1, long(size[0]), long(size[0] * size[1])};
-      std::vector<int> piece(n, -1);
-      std::vector<std::size_t> piece_size;
-      std::vector<std::size_t> piece_example;
-      std::deque<std::size_t>  queue;
-      const auto for_neighbours = [&](const std::size_t v, auto &&visit) {
-        std::size_t c[3] = {v % size[0],
-                            (v / size[0]) % size[1],
-                            v / (size[0] * size[1])};
+      // The connected pieces (face neighbours) of the uncut bone.
+      struct Pieces
+      {
+        std::vector<int>         piece; ///< per voxel; -1: none
+        std::vector<std::size_t> size;  ///< voxels per piece
+        std::vector<std::size_t> example;
+      };
+
+      // Visit the face neighbours of voxel @p v.
+      template <typename Visit>
+      void
+      for_neighbours(const LabelVolume &labels,
+                     const std::size_t  v,
+                     const Visit       &visit)
+      {
+        const auto &size      = labels.size;
+        const long  stride[3] = {1, long(size[0]), long(size[0] * size[1])};
+        std::size_t c[3]      = {v % size[0],
+                                 (v / size[0]) % size[1],
+                                 v / (size[0] * size[1])};
         for (unsigned int d = 0; d < 3; ++d)
           {
             if (c[d] > 0)
@@ -133,112 +117,200 @@ namespace softface
             if (c[d] + 1 < size[d])
               visit(v + stride[d]);
           }
-      };
-      for (std::size_t v = 0; v < n; ++v)
-        if (state[v] == 1 && piece[v] < 0)
-          {
-            const int p = piece_size.size();
-            piece_size.push_back(0);
-            piece_example.push_back(v);
-            piece[v] = p;
-            queue.push_back(v);
-            while (!queue.empty())
-              {
-                const std::size_t u = queue.front();
-                queue.pop_front();
-                ++piece_size[p];
-                for_neighbours(u, [&](const std::size_t w) {
-                  if (state[w] == 1 && piece[w] < 0)
-                    {
-                      piece[w] = p;
-                      queue.push_back(w);
-                    }
-                });
-              }
-          }
+      }
 
-      // Each segment's piece: the one at its seed, or the nearest bone.
-      const auto describe = [&](const std::size_t v) {
-        const Vec3         x = labels.point(v % size[0],
-                                    (v / size[0]) % size[1],
-                                    v / (size[0] * size[1]));
-        std::ostringstream s;
-        s << "(" << std::round(x[0]) << ", " << std::round(x[1]) << ", "
-          << std::round(x[2]) << ")";
-        return s.str();
-      };
-      std::map<int, unsigned int> segment_of_piece;
-      for (unsigned int s = 0; s < segments.size(); ++s)
-        {
-          const Vec3 &seed  = segments[s].point;
-          const Vec3  c     = labels.continuous_index(seed);
-          int         found = -1;
-          double      best  = 5.;
-          const int   r[3]  = {int(std::ceil(5. / labels.spacing[0])),
-                               int(std::ceil(5. / labels.spacing[1])),
-                               int(std::ceil(5. / labels.spacing[2]))};
-          for (int dk = -r[2]; dk <= r[2]; ++dk)
-            for (int dj = -r[1]; dj <= r[1]; ++dj)
-              for (int di = -r[0]; di <= r[0]; ++di)
+      BoneState
+      mark_kerfs(const LabelVolume         &labels,
+                 const std::uint8_t         bone_label,
+                 const OsteotomyParameters &prm)
+      {
+        const std::size_t n    = labels.n_voxels();
+        const auto       &size = labels.size;
+        // A kerf narrower than a voxel may fall between two layers of voxel
+        // centres and separate nothing: it is at least one voxel wide.
+        const double kerf = std::max(prm.kerf,
+                                     1.01 * std::max({labels.spacing[0],
+                                                      labels.spacing[1],
+                                                      labels.spacing[2]}));
+        // Bone outside the kerfs: what the cuts leave connected.
+        BoneState bone;
+        auto     &state    = bone.state;
+        auto     &detached = bone.detached;
+        state.assign(n, 0);
+        detached.assign(n, false);
+        for (std::size_t k = 0; k < size[2]; ++k)
+          for (std::size_t j = 0; j < size[1]; ++j)
+            for (std::size_t i = 0; i < size[0]; ++i)
+              {
+                const std::size_t v = labels.index(i, j, k);
+                if (labels.values[v] != bone_label)
+                  continue;
+                state[v]     = 1;
+                const Vec3 x = labels.point(i, j, k);
+                for (const Cut &cut : prm.cuts)
+                  {
+                    const double d = cut.distance(x);
+                    if (d < 0.5 * kerf)
+                      state[v] = 2;
+                    if (d < cut.detached_margin)
+                      detached[v] = true;
+                  }
+              }
+
+        return bone;
+      }
+
+      Pieces
+      connected_pieces(const LabelVolume               &labels,
+                       const std::vector<std::uint8_t> &state)
+      {
+        const std::size_t n = labels.n_voxels();
+        Pieces            pieces;
+        auto             &piece         = pieces.piece;
+        auto             &piece_size    = pieces.size;
+        auto             &piece_example = pieces.example;
+        piece.assign(n, -1);
+        std::deque<std::size_t> queue;
+        // Connected pieces (face neighbours) of the uncut bone.
+        for (std::size_t v = 0; v < n; ++v)
+          if (state[v] == 1 && piece[v] < 0)
+            {
+              const int p = piece_size.size();
+              piece_size.push_back(0);
+              piece_example.push_back(v);
+              piece[v] = p;
+              queue.push_back(v);
+              while (!queue.empty())
                 {
-                  const long i = std::lround(c[0]) + di,
-                             j = std::lround(c[1]) + dj,
-                             k = std::lround(c[2]) + dk;
-                  if (i < 0 || j < 0 || k < 0 || i >= long(size[0]) ||
-                      j >= long(size[1]) || k >= long(size[2]))
-                    continue;
-                  const std::size_t v = labels.index(i, j, k);
-                  if (piece[v] < 0)
-                    continue;
-                  const Vec3   x = labels.point(i, j, k);
-                  const double d = std::sqrt(dot(sub(x, seed), sub(x, seed)));
-                  if (d < best)
-                    best = d, found = piece[v];
+                  const std::size_t u = queue.front();
+                  queue.pop_front();
+                  ++piece_size[p];
+                  for_neighbours(labels, u, [&](const std::size_t w) {
+                    if (state[w] == 1 && piece[w] < 0)
+                      {
+                        piece[w] = p;
+                        queue.push_back(w);
+                      }
+                  });
                 }
-          if (found < 0)
+            }
+
+        return pieces;
+      }
+
+      // Each segment's piece: the one at its seed, or the nearest bone
+      // within 5 mm; every large piece must belong to a segment.
+      std::map<int, unsigned int>
+      assign_segments(const LabelVolume              &labels,
+                      const Pieces                   &pieces,
+                      const OsteotomyParameters      &prm,
+                      const std::vector<SegmentSeed> &segments)
+      {
+        const auto &size          = labels.size;
+        const auto &piece         = pieces.piece;
+        const auto &piece_size    = pieces.size;
+        const auto &piece_example = pieces.example;
+        const auto  describe      = [&](const std::size_t v) {
+          const Vec3         x = labels.point(v % size[0],
+                                      (v / size[0]) % size[1],
+                                      v / (size[0] * size[1]));
+          std::ostringstream s;
+          s << "(" << std::round(x[0]) << ", " << std::round(x[1]) << ", "
+            << std::round(x[2]) << ")";
+          return s.str();
+        };
+        std::map<int, unsigned int> segment_of_piece;
+        for (unsigned int s = 0; s < segments.size(); ++s)
+          {
+            const Vec3 &seed  = segments[s].point;
+            const Vec3  c     = labels.continuous_index(seed);
+            int         found = -1;
+            double      best  = 5.;
+            const int   r[3]  = {int(std::ceil(5. / labels.spacing[0])),
+                                 int(std::ceil(5. / labels.spacing[1])),
+                                 int(std::ceil(5. / labels.spacing[2]))};
+            for (int dk = -r[2]; dk <= r[2]; ++dk)
+              for (int dj = -r[1]; dj <= r[1]; ++dj)
+                for (int di = -r[0]; di <= r[0]; ++di)
+                  {
+                    const long i = std::lround(c[0]) + di,
+                               j = std::lround(c[1]) + dj,
+                               k = std::lround(c[2]) + dk;
+                    if (i < 0 || j < 0 || k < 0 || i >= long(size[0]) ||
+                        j >= long(size[1]) || k >= long(size[2]))
+                      continue;
+                    const std::size_t v = labels.index(i, j, k);
+                    if (piece[v] < 0)
+                      continue;
+                    const Vec3   x = labels.point(i, j, k);
+                    const double d = std::sqrt(dot(sub(x, seed), sub(x, seed)));
+                    if (d < best)
+                      best = d, found = piece[v];
+                  }
+            if (found < 0)
+              {
+                std::ostringstream m;
+                m << "Osteotomy: the seed point (" << seed[0] << ", " << seed[1]
+                  << ", " << seed[2] << ") of segment '" << segments[s].name
+                  << "' lies in no bone (none within 5 mm).";
+                throw Error(m.str());
+              }
+            const auto taken = segment_of_piece.find(found);
+            if (taken != segment_of_piece.end())
+              throw Error(
+                "Osteotomy: segments '" + segments[taken->second].name +
+                "' and '" + segments[s].name +
+                "' lie in one bone part: no cut separates them (check "
+                "the cuts' positions and boxes, or the kerf).");
+            segment_of_piece[found] = s;
+          }
+        const double voxel = labels.voxel_volume();
+        for (std::size_t p = 0; p < piece_size.size(); ++p)
+          if (!segment_of_piece.count(p) &&
+              piece_size[p] * voxel >= prm.min_part_volume)
             {
               std::ostringstream m;
-              m << "Osteotomy: the seed point (" << seed[0] << ", " << seed[1]
-                << ", " << seed[2] << ") of segment '" << segments[s].name
-                << "' lies in no bone (none within 5 mm).";
+              m << "Osteotomy: a bone part of " << piece_size[p] * voxel / 1000.
+                << " cm^3 (at " << describe(piece_example[p])
+                << ") belongs to no segment; give it a segment with a seed "
+                   "point "
+                   "in it, or change the cuts.";
               throw Error(m.str());
             }
-          const auto taken = segment_of_piece.find(found);
-          if (taken != segment_of_piece.end())
-            throw Error("Osteotomy: segments '" + segments[taken->second].name +
-                        "' and '" + segments[s].name +
-                        "' lie in one bone part: no cut separates them (check "
-                        "the cuts' positions and boxes, or the kerf).");
-          segment_of_piece[found] = s;
-        }
-      const double voxel = labels.voxel_volume();
-      for (std::size_t p = 0; p < piece_size.size(); ++p)
-        if (!segment_of_piece.count(p) &&
-            piece_size[p] * voxel >= prm.min_part_volume)
-          {
-            std::ostringstream m;
-            m << "Osteotomy: a bone part of " << piece_size[p] * voxel / 1000.
-              << " cm^3 (at " << describe(piece_example[p])
-              << ") belongs to no segment; give it a segment with a seed point "
-                 "in it, or change the cuts.";
-            throw Error(m.str());
-          }
+
+        return segment_of_piece;
+      }
+    } // namespace
+
+    LabelVolume
+    split_bone(const LabelVolume              &labels,
+               const std::uint8_t              bone_label,
+               const OsteotomyParameters      &prm,
+               const std::vector<SegmentSeed> &segments)
+    {
+      const std::size_t n      = labels.n_voxels();
+      const BoneState   bone   = mark_kerfs(labels, bone_label, prm);
+      const auto       &state  = bone.state;
+      const Pieces      pieces = connected_pieces(labels, state);
+      const auto        segment_of_piece =
+        assign_segments(labels, pieces, prm, segments);
 
       // The parts, then the rest of the bone (kerfs, small pieces) to the
       // nearest part through the bone.
-      LabelVolume parts;
+      std::deque<std::size_t> queue;
+      LabelVolume             parts;
       parts.reinit_like(labels);
       for (std::size_t v = 0; v < n; ++v)
-        if (piece[v] >= 0 && segment_of_piece.count(piece[v]))
+        if (pieces.piece[v] >= 0 && segment_of_piece.count(pieces.piece[v]))
           {
-            parts.values[v] = segment_of_piece[piece[v]] + 1;
+            parts.values[v] = segment_of_piece.at(pieces.piece[v]) + 1;
             queue.push_back(v);
           }
       while (!queue.empty())
         {
           const std::size_t u = queue.front();
           queue.pop_front();
-          for_neighbours(u, [&](const std::size_t w) {
+          for_neighbours(labels, u, [&](const std::size_t w) {
             if (state[w] != 0 && parts.values[w] == 0)
               {
                 parts.values[w] = parts.values[u];
@@ -247,7 +319,7 @@ namespace softface
           });
         }
       for (std::size_t v = 0; v < n; ++v)
-        if (detached[v] && parts.values[v] != 0)
+        if (bone.detached[v] && parts.values[v] != 0)
           parts.values[v] = detached_part;
       return parts;
     }
