@@ -112,6 +112,152 @@ namespace softface
                                      prm.optimisation_safety_seconds,
                                    p::sliver_bound = prm.sliver_bound));
       }
+
+      // The soft tissue to mesh: which labels are tissue, how many voxels
+      // of it lie in the region of interest, and their bounding box (with
+      // a margin, so that the image function sees the outside on every
+      // side).
+      struct TissueBox
+      {
+        std::vector<bool>          tissue; ///< per label
+        std::size_t                n_tissue = 0;
+        std::array<std::size_t, 3> lo, size;
+      };
+
+      TissueBox
+      tissue_box(const LabelVolume               &labels,
+                 const std::vector<std::uint8_t> &tissue_labels,
+                 const RegionOfInterest          &roi)
+      {
+        // The voxels to mesh, and their bounding box (with a margin, so that
+        // the image function sees the outside on every side).
+        TissueBox                  box;
+        auto                      &lo = box.lo;
+        std::array<std::size_t, 3> hi{{0, 0, 0}};
+        lo = {{labels.size[0], labels.size[1], labels.size[2]}};
+        box.tissue.assign(256, false);
+        auto &tissue = box.tissue;
+        for (const auto l : tissue_labels)
+          tissue[l] = true;
+        std::size_t &n_tissue = box.n_tissue;
+        for (std::size_t k = 0; k < labels.size[2]; ++k)
+          for (std::size_t j = 0; j < labels.size[1]; ++j)
+            for (std::size_t i = 0; i < labels.size[0]; ++i)
+              if (tissue[labels(i, j, k)] &&
+                  roi.contains(labels.point(i, j, k)))
+                {
+                  ++n_tissue;
+                  const std::size_t ijk[3] = {i, j, k};
+                  for (unsigned int d = 0; d < 3; ++d)
+                    lo[d] = std::min(lo[d], ijk[d]),
+                    hi[d] = std::max(hi[d], ijk[d]);
+                }
+        if (n_tissue < 8)
+          throw Error(
+            "Mesh: the region of interest holds no soft tissue (" +
+            std::to_string(n_tissue) +
+            " voxels); check Scene/Patient/Region of interest against "
+            "the volume.");
+        auto &size = box.size;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            lo[d]   = lo[d] >= 2 ? lo[d] - 2 : 0;
+            hi[d]   = std::min(hi[d] + 2, labels.size[d] - 1);
+            size[d] = hi[d] - lo[d] + 1;
+          }
+        return box;
+      }
+
+      CGAL::Image_3
+      labelled_image(const LabelVolume               &labels,
+                     const TissueBox                 &box,
+                     const RegionOfInterest          &roi,
+                     const TetrahedralMeshParameters &prm)
+      {
+        const auto &lo = box.lo, &size = box.size;
+        const auto &tissue = box.tissue;
+        // CGAL's image: the tissue labels, 0 elsewhere, in index space scaled
+        // by the spacing (origin and direction are applied afterwards).
+        _image *raw  = _createImage(size[0],
+                                   size[1],
+                                   size[2],
+                                   1,
+                                   labels.spacing[0],
+                                   labels.spacing[1],
+                                   labels.spacing[2],
+                                   1,
+                                   WK_FIXED,
+                                   SGN_UNSIGNED);
+        auto   *data = static_cast<unsigned char *>(raw->data);
+        for (std::size_t k = 0; k < size[2]; ++k)
+          for (std::size_t j = 0; j < size[1]; ++j)
+            for (std::size_t i = 0; i < size[0]; ++i)
+              {
+                const std::uint8_t l = labels(lo[0] + i, lo[1] + j, lo[2] + k);
+                const bool         in =
+                  tissue[l] &&
+                  roi.contains(labels.point(lo[0] + i, lo[1] + j, lo[2] + k));
+                // One domain unless the interfaces between tissues are to be
+                // meshed conformingly.
+                data[i + size[0] * (j + size[1] * k)] =
+                  in ? (prm.conforming_interfaces ? l : 1) : 0;
+              }
+        return CGAL::Image_3(raw);
+      }
+
+      // Mesh_3 on the image, with the cell size that gives about the
+      // target count; the outcome of the sliver optimisers to @p outcome.
+      C3t3
+      mesh_image(const CGAL::Image_3             &image,
+                 const LabelVolume               &labels,
+                 const std::size_t                n_tissue,
+                 const TetrahedralMeshParameters &prm,
+                 std::array<std::string, 2>      &outcome)
+      {
+        // The cell size that gives about the target count: these criteria
+        // average about 0.05 R^3 per tetrahedron (measured on phantoms); the
+        // surface's own refinement shifts that, so a count more than 25% off
+        // the target is corrected once by the cube root of the ratio.
+        const double tissue_volume = n_tissue * labels.voxel_volume();
+        double       cell_size =
+          prm.cell_size > 0. ?
+                  prm.cell_size :
+                  std::cbrt(tissue_volume /
+                      (0.05 * std::max(1u, prm.target_n_tetrahedra)));
+
+        namespace p = CGAL::parameters;
+        C3t3 c3t3;
+        for (unsigned int attempt = 0; attempt < 2; ++attempt)
+          {
+            CGAL::Random random(prm.seed);
+            const Domain domain = Domain::create_labeled_image_mesh_domain(
+              image, p::relative_error_bound = 1e-6, p::p_rng = &random);
+            const Criteria criteria(p::facet_angle    = prm.facet_angle,
+                                    p::facet_size     = cell_size,
+                                    p::facet_distance = prm.facet_distance,
+                                    p::cell_radius_edge_ratio =
+                                      prm.radius_edge_ratio,
+                                    p::cell_size = cell_size);
+            c3t3 = CGAL::make_mesh_3<C3t3>(domain,
+                                           criteria,
+                                           p::no_perturb(),
+                                           p::no_exude());
+            optimise_slivers(c3t3, domain, prm, outcome);
+            const double ratio = double(c3t3.number_of_cells_in_complex()) /
+                                 std::max(1u, prm.target_n_tetrahedra);
+            if (prm.cell_size > 0. || (ratio > 0.75 && ratio < 1.25) ||
+                ratio == 0.)
+              break;
+            cell_size *= std::cbrt(ratio);
+          }
+        if (c3t3.number_of_cells_in_complex() == 0)
+          throw Error(
+            "Mesh: CGAL made no tetrahedron from the soft tissue (" +
+            std::to_string(n_tissue) +
+            " voxels); the region may be thinner than the cell size " +
+            std::to_string(cell_size) + " mm.");
+        return c3t3;
+      }
     } // namespace
 
     bool
@@ -285,109 +431,15 @@ namespace softface
                           const RegionOfInterest          &roi,
                           const TetrahedralMeshParameters &prm)
     {
-      // The voxels to mesh, and their bounding box (with a margin, so that
-      // the image function sees the outside on every side).
-      std::array<std::size_t, 3> lo{
-        {labels.size[0], labels.size[1], labels.size[2]}},
-        hi{{0, 0, 0}};
-      std::vector<bool> tissue(256, false);
-      for (const auto l : tissue_labels)
-        tissue[l] = true;
-      std::size_t n_tissue = 0;
-      for (std::size_t k = 0; k < labels.size[2]; ++k)
-        for (std::size_t j = 0; j < labels.size[1]; ++j)
-          for (std::size_t i = 0; i < labels.size[0]; ++i)
-            if (tissue[labels(i, j, k)] && roi.contains(labels.point(i, j, k)))
-              {
-                ++n_tissue;
-                const std::size_t ijk[3] = {i, j, k};
-                for (unsigned int d = 0; d < 3; ++d)
-                  lo[d] = std::min(lo[d], ijk[d]),
-                  hi[d] = std::max(hi[d], ijk[d]);
-              }
-      if (n_tissue < 8)
-        throw Error("Mesh: the region of interest holds no soft tissue (" +
-                    std::to_string(n_tissue) +
-                    " voxels); check Scene/Patient/Region of interest against "
-                    "the volume.");
-      std::array<std::size_t, 3> size;
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          lo[d]   = lo[d] >= 2 ? lo[d] - 2 : 0;
-          hi[d]   = std::min(hi[d] + 2, labels.size[d] - 1);
-          size[d] = hi[d] - lo[d] + 1;
-        }
-
-      // CGAL's image: the tissue labels, 0 elsewhere, in index space scaled
-      // by the spacing (origin and direction are applied afterwards).
-      _image *raw  = _createImage(size[0],
-                                 size[1],
-                                 size[2],
-                                 1,
-                                 labels.spacing[0],
-                                 labels.spacing[1],
-                                 labels.spacing[2],
-                                 1,
-                                 WK_FIXED,
-                                 SGN_UNSIGNED);
-      auto   *data = static_cast<unsigned char *>(raw->data);
-      for (std::size_t k = 0; k < size[2]; ++k)
-        for (std::size_t j = 0; j < size[1]; ++j)
-          for (std::size_t i = 0; i < size[0]; ++i)
-            {
-              const std::uint8_t l = labels(lo[0] + i, lo[1] + j, lo[2] + k);
-              const bool         in =
-                tissue[l] &&
-                roi.contains(labels.point(lo[0] + i, lo[1] + j, lo[2] + k));
-              // One domain unless the interfaces between tissues are to be
-              // meshed conformingly.
-              data[i + size[0] * (j + size[1] * k)] =
-                in ? (prm.conforming_interfaces ? l : 1) : 0;
-            }
-      CGAL::Image_3 image(raw);
-
-      // The cell size that gives about the target count: these criteria
-      // average about 0.05 R^3 per tetrahedron (measured on phantoms); the
-      // surface's own refinement shifts that, so a count more than 25% off
-      // the target is corrected once by the cube root of the ratio.
-      const double tissue_volume = n_tissue * labels.voxel_volume();
-      double       cell_size =
-        prm.cell_size > 0. ?
-                prm.cell_size :
-                std::cbrt(tissue_volume /
-                    (0.05 * std::max(1u, prm.target_n_tetrahedra)));
-
-      namespace p = CGAL::parameters;
-      C3t3                       c3t3;
+      const TissueBox            box = tissue_box(labels, tissue_labels, roi);
+      const auto                &lo  = box.lo;
+      const auto                &tissue = box.tissue;
       std::array<std::string, 2> outcome;
-      for (unsigned int attempt = 0; attempt < 2; ++attempt)
-        {
-          CGAL::Random random(prm.seed);
-          const Domain domain = Domain::create_labeled_image_mesh_domain(
-            image, p::relative_error_bound = 1e-6, p::p_rng = &random);
-          const Criteria criteria(p::facet_angle    = prm.facet_angle,
-                                  p::facet_size     = cell_size,
-                                  p::facet_distance = prm.facet_distance,
-                                  p::cell_radius_edge_ratio =
-                                    prm.radius_edge_ratio,
-                                  p::cell_size = cell_size);
-          c3t3 = CGAL::make_mesh_3<C3t3>(domain,
-                                         criteria,
-                                         p::no_perturb(),
-                                         p::no_exude());
-          optimise_slivers(c3t3, domain, prm, outcome);
-          const double ratio = double(c3t3.number_of_cells_in_complex()) /
-                               std::max(1u, prm.target_n_tetrahedra);
-          if (prm.cell_size > 0. || (ratio > 0.75 && ratio < 1.25) ||
-              ratio == 0.)
-            break;
-          cell_size *= std::cbrt(ratio);
-        }
-      if (c3t3.number_of_cells_in_complex() == 0)
-        throw Error("Mesh: CGAL made no tetrahedron from the soft tissue (" +
-                    std::to_string(n_tissue) +
-                    " voxels); the region may be thinner than the cell size " +
-                    std::to_string(cell_size) + " mm.");
+      const C3t3 c3t3 = mesh_image(labelled_image(labels, box, roi, prm),
+                                   labels,
+                                   box.n_tissue,
+                                   prm,
+                                   outcome);
 
       // From CGAL's index space to the patient frame.
       const auto to_patient = [&](const Tr::Bare_point &x) {
