@@ -22,7 +22,7 @@ namespace softface
    *
    * It holds all a point model reads of the cells (their points, tissues
    * and the vertices' positions), so that on several MPI ranks a rank
-   * whose scene holds no cells (Scene::has_cells(), issue 20) runs the
+   * whose scene holds no cells (Scene::has_cells()) runs the
    * model on the points alone: rank 0 of the model's communicator sends
    * it the tetrahedra and their tissues (17 bytes a cell, where the
    * scene's triangulation and DoFs cost about 360: see
