@@ -9,6 +9,7 @@
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
 #include <softface/models/interface.h>
+#include <softface/outputs/interface.h>
 #include <softface/patient/commands.h>
 #include <softface/serve/serve.h>
 #include <softface/simulator/parameters.h>
@@ -86,7 +87,9 @@ main(int argc, char **argv)
                     << softface::Models::describe_registered() << "\neffects:\n"
                     << softface::Effects::describe_registered()
                     << "\nmesh sources:\n"
-                    << softface::MeshSources::describe_registered();
+                    << softface::MeshSources::describe_registered()
+                    << "\noutputs:\n"
+                    << softface::Outputs::describe_registered();
           return 0;
         }
       if (argument == "--print-parameters")

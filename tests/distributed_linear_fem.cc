@@ -32,9 +32,8 @@ namespace
           const DistributedLayout::Partitioner partitioner)
   {
     Models::LinearFEM serial;
-    serial.set_communicator(MPI_COMM_SELF);
     serial.set_solver("cg amg", 1e-12);
-    serial.setup(scene);
+    serial.setup(scene, {nullptr, MPI_COMM_SELF, nullptr});
     Vector<double> expected;
     serial.solve(prescribed, expected);
 

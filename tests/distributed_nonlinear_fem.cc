@@ -88,15 +88,14 @@ namespace
         model_pointer->parse_parameters(prm);
       }
     Models::NonlinearElasticity &model = *model_pointer;
-    model.set_communicator(communicator);
-    model.set_shared_layout(std::make_shared<SharedDistributedLayout>(
-      communicator, DistributedLayout::parse_partitioner(options.partitioner)));
-    if (options.path)
-      model.set_load_path(options.path);
-    model.set_initial_guess(options.guess);
-    model.setup(scene);
+    model.setup(scene,
+                {nullptr,
+                 communicator,
+                 std::make_shared<SharedDistributedLayout>(
+                   communicator,
+                   DistributedLayout::parse_partitioner(options.partitioner))});
     Outcome outcome;
-    model.solve(prescribed, outcome.u);
+    model.solve(prescribed, outcome.u, {options.path, options.guess});
     outcome.load_steps = model.report().load_steps;
     outcome.cutbacks   = model.report().cutbacks;
     outcome.newton     = model.report().newton_iterations;

@@ -51,8 +51,7 @@ namespace
         const Scene          &scene,
         const Vector<double> &prescribed)
   {
-    model.set_communicator(communicator);
-    model.setup(scene);
+    model.setup(scene, {nullptr, communicator, nullptr});
     Vector<double> u;
     model.solve(prescribed, u);
     const unsigned int n_ranks = Utilities::MPI::n_mpi_processes(communicator);

@@ -1,9 +1,9 @@
 // The mass tensor model's precision (Report precision: its distance to the
 // converged answer of its equations) measured against linear FEM's answer
-// to the same plan, as a run hands it over (Interface::set_converged_answer),
-// equals the one against its own direct solve: the tensors are the blocks of
-// linear FEM's stiffness, so that answer is the converged one (here solved
-// by CHOLMOD, as the model's own).
+// to the same plan, as a run hands it over
+// (Models::PlanContext::converged_answer), equals the one against its own
+// direct solve: the tensors are the blocks of linear FEM's stiffness, so that
+// answer is the converged one (here solved by CHOLMOD, as the model's own).
 
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_tensor.h>
@@ -33,8 +33,7 @@ SOFTFACE_TEST(mass_tensor_precision_reuse)
   reused.setup(scene);
   Vector<double> a, b;
   own.solve(turn, a);
-  reused.set_converged_answer(&linear_answer);
-  reused.solve(turn, b);
+  reused.solve(turn, b, {Models::LoadPath(), nullptr, &linear_answer});
 
   std::string against;
   for (const auto &detail : reused.statistics().details)

@@ -21,7 +21,7 @@
 #include <softface/io/vtu_reader.h>
 #include <softface/models/interface.h>
 #include <softface/models/linear_fem.h>
-#include <softface/simulator/output.h>
+#include <softface/outputs/solution.h>
 #include <softface/simulator/simulator.h>
 
 #include "mpi_runs.h"
@@ -138,7 +138,7 @@ SOFTFACE_TEST(mpi_run_scene)
 
       // The fields: a piece per rank and their record, which softface's
       // reader reads back as the mesh of a serial solution.vtu of the same
-      // run (Output::write_vtu(), as a serial run writes it).
+      // run (Outputs::write_vtu(), as a serial run writes it).
       check_fields_against_serial(folder,
                                   scene,
                                   runs,
@@ -151,7 +151,7 @@ SOFTFACE_TEST(mpi_run_scene)
 
   // The mass tensor model alone, every rank holding the scene (groups of
   // one), makes no distributed layout (its ranks share its own blocks): the
-  // pieces are then ranges of the scene's cells (Output::write_pvtu() from
+  // pieces are then ranges of the scene's cells (Outputs::write_pvtu() from
   // the scene), with the same fields.
   const std::string alone = name + "_mass_tensor_alone";
   const std::string alone_file =

@@ -196,8 +196,7 @@ namespace
           simulator.plannings().plans[p].planning.prescribed_displacement(
             scene);
         auto model = Models::create("reference fem", simulator.parameters());
-        model->set_communicator(MPI_COMM_SELF);
-        model->setup(scene);
+        model->setup(scene, {nullptr, MPI_COMM_SELF, nullptr});
         Vector<double> serial;
         model->solve(prescribed, serial);
         check_below(what + "relative difference to the serial model",
@@ -307,8 +306,7 @@ namespace
         if (r % 2 == 0)
           {
             serial_model = Models::create(model_name, simulator.parameters());
-            serial_model->set_communicator(MPI_COMM_SELF);
-            serial_model->setup(scene);
+            serial_model->setup(scene, {nullptr, MPI_COMM_SELF, nullptr});
           }
         Vector<double> serial;
         serial_model->solve(

@@ -10,8 +10,8 @@
 #include <softface/io/vtu_reader.h>
 #include <softface/models/interface.h>
 #include <softface/models/linear_fem.h>
-#include <softface/simulator/output.h>
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
+#include <softface/outputs/solution.h>
 
 #include "tests.h"
 
@@ -79,9 +79,8 @@ namespace softface_tests
   serial_linear_fem(const Scene &scene, const Vector<double> &prescribed)
   {
     Models::LinearFEM model;
-    model.set_communicator(MPI_COMM_SELF);
     model.set_solver("cg amg", 1e-12);
-    model.setup(scene);
+    model.setup(scene, {nullptr, MPI_COMM_SELF, nullptr});
     Vector<double> u;
     model.solve(prescribed, u);
     return u;
@@ -95,8 +94,7 @@ namespace softface_tests
                 const Vector<double> &prescribed)
   {
     auto model = Models::create(name, prm);
-    model->set_communicator(MPI_COMM_SELF);
-    model->setup(scene);
+    model->setup(scene, {nullptr, MPI_COMM_SELF, nullptr});
     Vector<double> u;
     model->solve(prescribed, u);
     return u;
@@ -115,7 +113,7 @@ namespace softface_tests
    * The fields a run on @p n_ranks ranks wrote in @p folder (rank 0 calls
    * this): a piece solution.N.vtu per rank and their record solution.pvtu,
    * which softface's reader reads back as the mesh of a serial
-   * solution.vtu of the same run (Output::write_vtu(), as a serial run
+   * solution.vtu of the same run (Outputs::write_vtu(), as a serial run
    * writes it), with the same material ids and the same values of each of
    * @p arrays at every point.
    */
@@ -134,7 +132,7 @@ namespace softface_tests
     check_equal("solution.vtu written (on several ranks: no)",
                 std::filesystem::exists(folder + "/solution.vtu"),
                 false);
-    Output::write_vtu(scene, runs, folder + "/serial.vtu");
+    Outputs::write_vtu(scene, runs, folder + "/serial.vtu");
     Triangulation<3> record, serial_file;
     Mesh::read_file(folder + "/solution.pvtu", record);
     Mesh::read_file(folder + "/serial.vtu", serial_file);

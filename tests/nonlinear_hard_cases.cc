@@ -85,8 +85,7 @@ namespace
     Models::NonlinearFEM model;
     model.parse_parameters(prm);
     std::ostringstream progress;
-    model.set_progress_stream(&progress);
-    model.setup(scene);
+    model.setup(scene, {&progress, MPI_COMM_WORLD, nullptr});
     Vector<double> u;
     try
       {

@@ -57,10 +57,10 @@ namespace softface_tests
     prm.set("Minimum load increment", options.minimum_increment);
     Models::NonlinearFEM model;
     model.parse_parameters(prm);
-    const double end = options.load;
-    model.set_load_path([&](const double load) {
+    const double              end = options.load;
+    const Models::PlanContext plan{[&](const double load) {
       return planning.prescribed_displacement(scene, load * end);
-    });
+    }};
     model.setup(scene);
     NonlinearOutcome outcome;
     try
@@ -71,7 +71,7 @@ namespace softface_tests
             target = planning.prescribed_displacement(scene);
             target *= end;
           }
-        model.solve(target, outcome.u);
+        model.solve(target, outcome.u, plan);
         outcome.converged = true;
       }
     catch (const Error &e)

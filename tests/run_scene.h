@@ -6,7 +6,7 @@
 // each model's figures, warnings and errors) and its exit code, so that
 // numdiff compares every figure with tests/<name>.output.
 
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 #include <softface/simulator/simulator.h>
 
 #include "tests.h"

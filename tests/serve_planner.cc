@@ -7,8 +7,8 @@
 
 #include <deal.II/base/utilities.h>
 
+#include <softface/outputs/skin_output.h>
 #include <softface/serve/serve.h>
-#include <softface/simulator/skin_output.h>
 
 #include "tests.h"
 

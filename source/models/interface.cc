@@ -92,9 +92,13 @@ namespace softface
     }
 
     void
-    Interface::setup(const Scene &scene)
+    Interface::setup(const Scene &scene, const RunContext &context)
     {
-      stats = Statistics();
+      run_progress  = context.progress;
+      progress      = context.progress;
+      communicator  = context.communicator;
+      shared_layout = context.layout;
+      stats         = Statistics();
       setup_phases.clear();
       setup_details.clear();
       setup_warnings.clear();
@@ -113,8 +117,25 @@ namespace softface
 
     void
     Interface::solve(const Vector<double> &prescribed,
-                     Vector<double>       &displacement)
+                     Vector<double>       &displacement,
+                     const PlanContext    &plan)
     {
+      progress         = plan.silent ? nullptr : run_progress;
+      load_path        = plan.load_path;
+      initial_guess    = plan.initial_guess;
+      converged_answer = plan.converged_answer;
+      // Referenced only while this solve runs, also when it throws.
+      struct Forget
+      {
+        Interface *model;
+        ~Forget()
+        {
+          model->initial_guess    = nullptr;
+          model->converged_answer = nullptr;
+          model->load_path        = LoadPath();
+          model->progress         = model->run_progress;
+        }
+      } forget{this};
       const double       setup_time = stats.setup_time;
       const unsigned int n_dofs     = stats.n_dofs;
       stats                         = Statistics();
@@ -185,47 +206,10 @@ namespace softface
       return false;
     }
 
-    void
-    Interface::set_progress_stream(std::ostream *stream)
-    {
-      progress = stream;
-    }
-
-    void
-    Interface::set_load_path(const LoadPath &path)
-    {
-      load_path = path;
-    }
-
     std::string
     Interface::converged_equivalent() const
     {
       return "";
-    }
-
-    void
-    Interface::set_converged_answer(const Vector<double> *answer)
-    {
-      converged_answer = answer;
-    }
-
-    void
-    Interface::set_initial_guess(const Vector<double> *guess)
-    {
-      initial_guess = guess;
-    }
-
-    void
-    Interface::set_communicator(const MPI_Comm communicator_in)
-    {
-      communicator = communicator_in;
-    }
-
-    void
-    Interface::set_shared_layout(
-      const std::shared_ptr<SharedDistributedLayout> &layout)
-    {
-      shared_layout = layout;
     }
 
     const DistributedLayout &

@@ -39,10 +39,11 @@ namespace softface
 
       std::string current; // which response, for messages
       const auto  solve = [&](const Vector<double> &prescribed) {
-        Vector<double> u;
+        Vector<double>    u;
+        const PlanContext silent{LoadPath(), nullptr, nullptr, true};
         try
           {
-            model.solve(prescribed, u);
+            model.solve(prescribed, u, silent);
           }
         catch (const std::exception &e)
           {

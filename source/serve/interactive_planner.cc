@@ -9,8 +9,8 @@
 #include <softface/core/planning.h>
 #include <softface/core/rigid_motion.h>
 #include <softface/core/threads.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/serve/interactive_planner.h>
-#include <softface/simulator/skin_output.h>
 
 #include <algorithm>
 #include <cmath>

@@ -32,6 +32,7 @@ namespace softface
       bool                     list;
     };
     const std::vector<FileEntry> entries = {
+      {{}, "Additional shared libraries", true},
       {{"Scene"}, "Mesh file", false},
       {{"Scene", "Patient"}, "CT volume", false},
       {{"Scene", "Patient"}, "Label volume", false},

@@ -16,13 +16,16 @@
 
 namespace softface
 {
-  ModelRunner::ModelRunner(Scene              &scene,
-                           const PlanningList &plannings,
-                           std::ostream       &out,
-                           std::ostream       &err,
-                           AfterRun            after_run)
+  ModelRunner::ModelRunner(
+    Scene                                          &scene,
+    const PlanningList                             &plannings,
+    const std::shared_ptr<SharedDistributedLayout> &layout,
+    std::ostream                                   &out,
+    std::ostream                                   &err,
+    AfterRun                                        after_run)
       : scene(scene)
       , plannings(plannings)
+      , layout(layout)
       , out(out)
       , err(err)
       , after_run(std::move(after_run))
@@ -134,8 +137,10 @@ namespace softface
   {
     try
       {
-        model.set_progress_stream(&out);
-        model.setup(scene);
+        Models::RunContext context;
+        context.progress = &out;
+        context.layout   = layout;
+        model.setup(scene, context);
         setup.after_setup = model.statistics();
         out << tag << "setup " << setup.after_setup.setup_time << " s"
             << std::endl;
@@ -151,9 +156,7 @@ namespace softface
         if (setup.use_basis)
           {
             Timer timer;
-            model.set_progress_stream(nullptr);
             setup.basis.build(model, scene, moved);
-            model.set_progress_stream(&out);
             setup.basis_time = timer.wall_time();
             out << tag << "response basis " << setup.basis_time << " s ("
                 << n_basis_solves << " solves, " << std::setprecision(3)
@@ -248,22 +251,25 @@ namespace softface
                      const unsigned int p,
                      Report::ModelRun  &run)
   {
-    const auto &plan = plannings.plans[p];
-    model.set_load_path([&plan, this](const double load) {
+    const auto         &plan = plannings.plans[p];
+    Models::PlanContext context;
+    context.load_path = [&plan, this](const double load) {
       return plan.planning.prescribed_displacement(scene, load);
-    });
+    };
     // A model that ran this plan from its response basis offers its answer
     // as a start (the nonlinear models take it); the model that solves this
     // one's equations exactly, its answer.
-    model.set_initial_guess(earlier_answer(p, [](const Report::ModelRun &r) {
+    context.initial_guess = earlier_answer(p, [](const Report::ModelRun &r) {
       return r.basis_time > 0.;
-    }));
+    });
     const std::string equivalent = model.converged_equivalent();
-    model.set_converged_answer(earlier_answer(
-      p, [&](const Report::ModelRun &r) { return r.model == equivalent; }));
-    model.solve(plan.planning.prescribed_displacement(scene), run.displacement);
-    model.set_initial_guess(nullptr);
-    model.set_converged_answer(nullptr);
+    context.converged_answer =
+      earlier_answer(p, [&](const Report::ModelRun &r) {
+        return r.model == equivalent;
+      });
+    model.solve(plan.planning.prescribed_displacement(scene),
+                run.displacement,
+                context);
     run.statistics = model.statistics();
   }
 

@@ -10,11 +10,13 @@
 #include <softface/core/planning.h>
 #include <softface/core/planning_list.h>
 #include <softface/core/scene.h>
+#include <softface/core/shared_libraries.h>
 #include <softface/effects/interface.h>
 #include <softface/models/interface.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/simulator/parameters.h>
 #include <softface/simulator/simulator.h>
-#include <softface/simulator/skin_output.h>
 
 #include <algorithm>
 #include <cctype>
@@ -81,17 +83,6 @@ namespace softface
                       "Folder for summary.csv, solution.vtu, the input and "
                       "the expanded parameter file (relative to the "
                       "working directory; created if missing).");
-    prm.declare_entry("Write VTU",
-                      "true",
-                      Patterns::Bool(),
-                      "Write solution.vtu: every model's displacement, the "
-                      "join flag and segment id per vertex, material ids.");
-    prm.declare_entry("Write nodal displacements",
-                      "false",
-                      Patterns::Bool(),
-                      "Write displacements_<model>.csv with columns "
-                      "x,y,z,ux,uy,uz (mm), one row per vertex in "
-                      "reference coordinates.");
     prm.declare_entry("Reference model",
                       "linear fem",
                       Patterns::Anything(),
@@ -100,18 +91,7 @@ namespace softface
                       "and mean difference over the free vertices). No "
                       "comparison when it is not among Models/Models or "
                       "fails.");
-    prm.declare_entry(
-      "Evaluation points",
-      "",
-      Patterns::Anything(),
-      "CSV file whose first three columns are x,y,z (mm, reference "
-      "configuration; a header line is skipped), e.g. the "
-      "displacements_*.csv of another run. If set, every model's "
-      "displacement there is written to evaluation_<model>.csv: "
-      "interpolated with the model's shape functions (linear, or "
-      "quadratic for 'Polynomial degree = 2'). Relative paths are "
-      "taken from the parameter file's folder. Points must lie in the "
-      "mesh.");
+    Outputs::declare_parameters(prm);
     prm.leave_subsection();
   }
 
@@ -119,11 +99,8 @@ namespace softface
   OutputParameters::parse_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Output");
-    directory                 = prm.get("Output directory");
-    write_vtu                 = prm.get_bool("Write VTU");
-    write_nodal_displacements = prm.get_bool("Write nodal displacements");
-    evaluation_points         = prm.get("Evaluation points");
-    reference_model           = prm.get("Reference model");
+    directory       = prm.get("Output directory");
+    reference_model = prm.get("Reference model");
     prm.leave_subsection();
   }
 
@@ -134,6 +111,7 @@ namespace softface
                                 const std::vector<std::string> &cut_names,
                                 const std::vector<std::string> &plan_names)
   {
+    SharedLibraries::declare_parameters(prm);
     Scene::declare_parameters(prm, segment_names, cut_names);
     PlanningList::declare_parameters(prm, moved_segments, plan_names);
     Models::declare_parameters(prm);
@@ -151,6 +129,23 @@ namespace softface
       throw Error("Cannot open parameter file '" + filename +
                   "' (not a readable file).");
     check_includes(filename, {});
+
+    // Plugins from outside the tree register themselves when loaded, before
+    // anything is declared.
+    {
+      ParameterHandler libraries;
+      SharedLibraries::declare_parameters(libraries);
+      parse_tolerantly(filename, libraries);
+      try
+        {
+          SharedLibraries::load(
+            libraries, std::filesystem::path(filename).parent_path().string());
+        }
+      catch (const Error &e)
+        {
+          throw Error(filename + ": " + e.what());
+        }
+    }
 
     ParameterHandler first_pass;
     declare_parameters(first_pass, {}, {});

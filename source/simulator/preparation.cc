@@ -1,7 +1,7 @@
 // A scene file made ready to run (simulator): the plugins it selects, the
-// scene with its effects and plans, the evaluation points, the skin and its
-// truth, the inputs copied beside the outputs, and the checks that stop a
-// run before any model starts.
+// scene with its effects and plans, the skin and its truth, the outputs it
+// asks for, the inputs copied beside them, and the checks that stop a run
+// before any model starts.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/timer.h>
@@ -17,16 +17,14 @@
 #include <softface/core/sub_communicator.h>
 #include <softface/core/threads.h>
 #include <softface/effects/interface.h>
-#include <softface/fe/point_evaluation.h>
 #include <softface/io/output_file.h>
-#include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/patient/pipeline.h>
 #include <softface/simulator/input_files.h>
-#include <softface/simulator/output.h>
 #include <softface/simulator/prepared.h>
 #include <softface/simulator/simulator.h>
-#include <softface/simulator/skin_output.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -59,7 +57,7 @@ namespace softface
       if (models.size() != 1 || mapping.find(',') != std::string::npos)
         throw Error(where + ": a truth scene runs one model and one mapping.");
       const std::string skin =
-        output.directory + "/skin_" + Output::file_name_of(models[0]) + ".ply";
+        output.directory + "/skin_" + Outputs::file_name_of(models[0]) + ".ply";
       const auto contents = [](const std::string &file) {
         std::ifstream      in(file);
         std::ostringstream s;
@@ -108,8 +106,8 @@ namespace softface
     create_plugins(filename);
     const std::string needs_cells = build_scene(filename, out);
     describe_scene(needs_cells, wall.wall_time(), out);
-    prepare_evaluation_points(out);
     prepare_skin(filename, out);
+    prepare_outputs(out);
     write_inputs(filename, out);
     check_planning_scale(filename);
     const PlanningList &plannings = state->plannings;
@@ -143,6 +141,8 @@ namespace softface
             "; run it alone first and give its skin_<model>.ply.");
       }
 
+    state->input_directory =
+      std::filesystem::path(filename).parent_path().string();
     OutputParameters &output = state->output;
     output.parse_parameters(prm);
     reference     = output.reference_model;
@@ -163,8 +163,6 @@ namespace softface
               DistributedLayout::parse_partitioner(prm.get("Partitioner")),
               prm.get_integer("Mesh group size"));
             prm.leave_subsection();
-            for (auto &model : models)
-              model.second->set_shared_layout(state->layout);
           }
         // Every selected model must simulate every effect the scene calls
         // for; this is known before any work.
@@ -176,6 +174,9 @@ namespace softface
                                      model->honoured_effects(),
                                      effect_name,
                                      *effect);
+        prm.enter_subsection("Output");
+        state->outputs = Outputs::create_all(prm, state->input_directory);
+        prm.leave_subsection();
         if (!output.reference_model.empty())
           {
             const auto known = Models::registered_names();
@@ -198,11 +199,9 @@ namespace softface
     const auto       &models  = state->models;
     const auto       &effects = state->effects;
     out << "softface: scene " << filename << std::endl;
-    const std::string input_directory =
-      std::filesystem::path(filename).parent_path().string();
-    state->input_directory = input_directory;
-    the_scene              = std::make_unique<Scene>();
-    Scene &scene           = *the_scene;
+    const std::string &input_directory = state->input_directory;
+    the_scene                          = std::make_unique<Scene>();
+    Scene &scene                       = *the_scene;
     // In groups of ranks (Models/Mesh group size) whose models all read
     // nothing of the scene's cells, the members hold none: each group's
     // root reads or makes the mesh, and rank 0 sends the members the rest.
@@ -302,59 +301,6 @@ namespace softface
   }
 
   void
-  Simulator::prepare_evaluation_points(std::ostream &out)
-  {
-    const Scene       &scene           = *the_scene;
-    const auto        &output          = state->output;
-    const std::string &input_directory = state->input_directory;
-    auto              &evaluation      = state->evaluation;
-    if (!output.evaluation_points.empty())
-      {
-        std::filesystem::path points_file(output.evaluation_points);
-        if (points_file.is_relative() && !input_directory.empty())
-          points_file = std::filesystem::path(input_directory) / points_file;
-        // Rank 0 reads them (its error is every rank's) and sends them.
-        std::vector<Point<3>> points;
-        on_rank_0(MPI_COMM_WORLD,
-                  [&]() { points = read_points_csv(points_file.string()); });
-        if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-          points = Utilities::MPI::broadcast(MPI_COMM_WORLD, points);
-        try
-          {
-            // Rank 0 writes the values (and may be the only rank with the
-            // cells); its error is every rank's.
-            on_rank_0(MPI_COMM_WORLD, [&]() {
-              evaluation =
-                std::make_unique<PointEvaluation>(scene.triangulation, points);
-            });
-          }
-        catch (const Error &e)
-          {
-            throw Error("Output/Evaluation points '" + points_file.string() +
-                        "': " + e.what());
-          }
-        if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1)
-          {
-            state->evaluation_points = points;
-            if (evaluation)
-              {
-                state->evaluation_cells = evaluation->cell_indices();
-                state->evaluation_reference_points =
-                  evaluation->reference_coordinates();
-              }
-            state->evaluation_cells =
-              Utilities::MPI::broadcast(MPI_COMM_WORLD,
-                                        state->evaluation_cells);
-            state->evaluation_reference_points =
-              Utilities::MPI::broadcast(MPI_COMM_WORLD,
-                                        state->evaluation_reference_points);
-          }
-        out << "  " << points.size() << " evaluation points from "
-            << points_file.string() << std::endl;
-      }
-  }
-
-  void
   Simulator::prepare_skin(const std::string &filename, std::ostream &out)
   {
     ParameterHandler  &prm             = state->prm;
@@ -397,6 +343,31 @@ namespace softface
       {
         throw Error(filename + ": " + e.what());
       }
+  }
+
+  void
+  Simulator::prepare_outputs(std::ostream &out)
+  {
+    // Only the outputs the scene asks for take part.
+    auto &outputs = state->outputs;
+    outputs.erase(std::remove_if(outputs.begin(),
+                                 outputs.end(),
+                                 [](const auto &output) {
+                                   return !output->requested();
+                                 }),
+                  outputs.end());
+    state->run = std::make_unique<Outputs::Run>(
+      Outputs::Run{*the_scene,
+                   model_runs,
+                   reference,
+                   state->output.directory,
+                   state->writes_outputs,
+                   state->layout.get(),
+                   state->members_without_cells,
+                   !state->skin_parameters.skin_surface.empty(),
+                   state->skin.get()});
+    for (const auto &output : outputs)
+      output->prepare(*state->run, out);
   }
 
   void

@@ -3,50 +3,24 @@
 // model is reported and the others go on), and writes the report and fields.
 
 #include <deal.II/base/mpi.h>
-#include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
 
-#include <softface/core/build_id.h>
-#include <softface/core/displacement.h>
-#include <softface/core/distributed_layout.h>
-#include <softface/core/error.h>
-#include <softface/core/on_rank_0.h>
-#include <softface/core/parameter_sections.h>
-#include <softface/core/planning.h>
-#include <softface/core/planning_list.h>
 #include <softface/core/process.h>
 #include <softface/core/scene.h>
-#include <softface/core/sub_communicator.h>
 #include <softface/core/threads.h>
-#include <softface/core/vec3_parameter.h>
-#include <softface/effects/interface.h>
-#include <softface/fe/point_evaluation.h>
-#include <softface/io/output_file.h>
-#include <softface/io/points_csv.h>
 #include <softface/models/interface.h>
-#include <softface/models/response_basis.h>
-#include <softface/patient/backend.h>
-#include <softface/simulator/input_files.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/report.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/simulator/model_runner.h>
-#include <softface/simulator/output.h>
 #include <softface/simulator/parameters.h>
 #include <softface/simulator/prepared.h>
 #include <softface/simulator/rank_policy.h>
-#include <softface/simulator/report.h>
 #include <softface/simulator/simulator.h>
-#include <softface/simulator/skin_output.h>
 
-#include <algorithm>
-#include <cctype>
-#include <cmath>
-#include <exception>
-#include <filesystem>
-#include <fstream>
-#include <functional>
 #include <iomanip>
-#include <iostream>
-#include <sstream>
-#include <streambuf>
+#include <ostream>
+#include <string>
 
 namespace softface
 {
@@ -74,6 +48,7 @@ namespace softface
     model_runs.clear();
     ModelRunner        runner(*the_scene,
                        state->plannings,
+                       state->layout,
                        out,
                        err,
                        [&](const Report::ModelRun &run,
@@ -108,90 +83,15 @@ namespace softface
                              Models::Interface      &model,
                              const bool              from_basis)
   {
-    const Scene &scene = *the_scene;
-    // Rank 0 maps for all; its error is every rank's. Every rank knows
-    // whether the run maps skins.
-    if (!state->skin_parameters.skin_surface.empty())
-      on_rank_0(MPI_COMM_WORLD, [&]() {
-        state->skin->add_model(run.label(), scene, run.displacement);
-      });
-    if (state->output.evaluation_points.empty())
-      return;
-    // A field on the ranks' parts of the mesh (the quadratic reference
-    // there) is evaluated by all ranks.
-    std::vector<Tensor<1, 3>> values;
-    const bool                on_ranks =
-      !from_basis && Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1 &&
-      model.displacement_field_at(state->evaluation_points,
-                                  state->evaluation_cells,
-                                  state->evaluation_reference_points,
-                                  values);
-    const auto [field_dofs, field] = model.displacement_field();
-    const auto &evaluation         = state->evaluation;
-    if (evaluation && state->writes_outputs)
-      write_point_values_csv(evaluation->points(),
-                             on_ranks ?
-                               values :
-                             field_dofs != nullptr && !from_basis ?
-                               evaluation->evaluate(*field_dofs, *field) :
-                               evaluation->evaluate(scene.dof_handler,
-                                                    run.displacement),
-                             state->output.directory + "/evaluation_" +
-                               Output::file_name_of(run.label()) + ".csv");
+    for (const auto &output : state->outputs)
+      output->add_answer(*state->run, run, model, from_basis);
   }
 
   void
   Simulator::write_outputs(std::ostream &out)
   {
-    const Scene       &scene  = *the_scene;
-    const auto        &output = state->output;
-    const unsigned int n_ranks =
-      Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD);
-    if (state->writes_outputs)
-      {
-        if (state->skin)
-          {
-            std::vector<std::string> labels;
-            for (const auto &run : model_runs)
-              labels.push_back(run.label());
-            state->skin->order_rows(labels);
-            state->skin->write(out);
-          }
-        Report::write_summary_csv(scene,
-                                  model_runs,
-                                  reference,
-                                  output.directory + "/summary.csv");
-        Report::write_statistics(scene,
-                                 model_runs,
-                                 output.directory + "/statistics");
-        if (output.write_vtu && n_ranks == 1)
-          Output::write_vtu(scene,
-                            model_runs,
-                            output.directory + "/solution.vtu");
-        if (output.write_nodal_displacements)
-          for (const auto &run : model_runs)
-            if (!run.failed)
-              Output::write_nodal_displacements(
-                scene,
-                run.displacement,
-                output.directory + "/displacements_" +
-                  Output::file_name_of(run.label()) + ".csv");
-      }
-
-    // On several ranks each writes its piece of the fields, in rank 0's
-    // folder (the only one made).
-    if (output.write_vtu && n_ranks > 1)
-      {
-        const std::string stem =
-          Utilities::MPI::broadcast(MPI_COMM_WORLD, output.directory, 0) +
-          "/solution";
-        // From the ranks' parts where a model made them (or a rank holds no
-        // cells); a partition for output alone would cost seconds.
-        if (state->layout->built() || state->members_without_cells)
-          Output::write_pvtu(state->layout->get(scene), model_runs, stem);
-        else
-          Output::write_pvtu(scene, model_runs, stem, MPI_COMM_WORLD);
-      }
+    for (const auto &output : state->outputs)
+      output->write(*state->run, out);
   }
 
   void
@@ -207,14 +107,13 @@ namespace softface
     // The ranks differ where a group's members hold no scene cells.
     const double smallest_peak_mb =
       Utilities::MPI::min(memory.VmHWM / 1024., MPI_COMM_WORLD);
-    out << "\nOutputs in " << output.directory << "/ (summary.csv, statistics"
-        << (!output.write_vtu ? "" :
-            n_ranks > 1       ? ", solution.pvtu with a piece per rank" :
-                                ", solution.vtu")
-        << (output.write_nodal_displacements ? ", displacements_*.csv" : "")
-        << (state->evaluation ? ", evaluation_*.csv" : "")
-        << (state->skin ? ", skin.csv, skin_*.ply/.vtp" : "")
-        << ", input.prm, parameters.prm)\n"
+    std::string files;
+    for (const auto &output : state->outputs)
+      if (const std::string written = output->files(*state->run);
+          !written.empty())
+        files += written + ", ";
+    out << "\nOutputs in " << output.directory << "/ (" << files
+        << "input.prm, parameters.prm)\n"
         << "Wall time " << std::setprecision(2) << Process::wall_time()
         << " s (the whole process, "
         << (n_ranks > 1 ? std::to_string(n_ranks) + " MPI ranks x " :

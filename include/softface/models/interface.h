@@ -73,6 +73,63 @@ namespace softface
       std::vector<std::string> warnings;
     };
 
+    /// The prescribed displacement (like solve()'s) at a load in (0, 1].
+    using LoadPath = std::function<Vector<double>(const double load)>;
+
+    /**
+     * What a model reads of the run it is part of, handed to setup() and
+     * kept for every later solve().
+     */
+    struct RunContext
+    {
+      /// Where a long solve reports its progress (load steps, sweeps);
+      /// nullptr: silent. The simulator points it at stdout.
+      std::ostream *progress = nullptr;
+      /**
+       * The MPI ranks that share the model's work. On more than one, the
+       * distributed models (linear FEM, the mass tensor and mass spring
+       * models) spread it over them at setup(); MPI_COMM_SELF keeps a model
+       * whole on this rank in an MPI run.
+       */
+      MPI_Comm communicator = MPI_COMM_WORLD;
+      /// The run's layout on its ranks, shared by its distributed models;
+      /// none: a distributed model partitions the scene itself, in cell
+      /// order.
+      std::shared_ptr<SharedDistributedLayout> layout;
+    };
+
+    /**
+     * What a model reads of the plan it solves besides the prescribed
+     * displacement, handed to solve() and referenced until it returns.
+     */
+    struct PlanContext
+    {
+      /**
+       * How the planning is reached by a model that applies it in load
+       * steps (the nonlinear ones): the simulator hands the rigid path,
+       * each moved bone turned and translated the load's fraction of its
+       * motion (Planning::prescribed_displacement()). Empty: the final
+       * displacement scaled by the load.
+       */
+      LoadPath load_path;
+      /**
+       * A guess of the answer (a linear model's answer to the same plan),
+       * or nullptr. The nonlinear models start their first load step from
+       * it when it goes to the full load (the quadratic reference at degree
+       * 1 only: at degree 2 it has DoFs between the vertices); the others
+       * ignore it.
+       */
+      const Vector<double> *initial_guess = nullptr;
+      /**
+       * The answer of the model converged_equivalent() names to this plan,
+       * or nullptr: the model solves those equations itself if it needs
+       * them.
+       */
+      const Vector<double> *converged_answer = nullptr;
+      /// No progress reports (the solves of a response basis).
+      bool silent = false;
+    };
+
     /**
      * What every soft-tissue model offers. A model works on the scene's one
      * DoF layout: setup() once per scene (everything that does not depend on
@@ -107,16 +164,21 @@ namespace softface
       virtual bool
       linear_in_motion(const Scene &scene) const;
 
+      /// Everything that does not depend on the planning, in the run
+      /// @p context describes.
       void
-      setup(const Scene &scene);
+      setup(const Scene &scene, const RunContext &context = RunContext());
 
       /**
        * Compute the displacement of every vertex. @p prescribed holds the
        * join points' displacement (its free entries are ignored); on return
-       * @p displacement equals it on the join DoFs.
+       * @p displacement equals it on the join DoFs. @p plan: what else the
+       * model may read of this plan.
        */
       void
-      solve(const Vector<double> &prescribed, Vector<double> &displacement);
+      solve(const Vector<double> &prescribed,
+            Vector<double>       &displacement,
+            const PlanContext    &plan = PlanContext());
 
       const Statistics &
       statistics() const;
@@ -147,29 +209,10 @@ namespace softface
                             std::vector<Tensor<1, 3>>       &values) const;
 
       /**
-       * Where a long solve reports its progress (load steps, sweeps); none
-       * by default. The simulator points it at stdout.
-       */
-      void
-      set_progress_stream(std::ostream *stream);
-
-      /// The prescribed displacement (like solve()'s) at a load in (0, 1].
-      using LoadPath = std::function<Vector<double>(const double load)>;
-      /**
-       * How the planning is reached by a model that applies it in load
-       * steps (the nonlinear ones): the simulator sets the rigid path, each
-       * moved bone turned and translated the load's fraction of its
-       * motion (Planning::prescribed_displacement()). None: the final
-       * displacement scaled by the load.
-       */
-      void
-      set_load_path(const LoadPath &path);
-
-      /**
        * The registered model whose answer is this one's converged answer
        * (the same equations solved exactly), or empty. The mass tensor
-       * model: "linear fem". With set_converged_answer() a model can then
-       * measure its precision without solving them again.
+       * model: "linear fem". With PlanContext::converged_answer a model can
+       * then measure its precision without solving them again.
        */
       virtual std::string
       converged_equivalent() const;
@@ -183,41 +226,6 @@ namespace softface
       virtual bool
       runs_without_scene_cells() const;
 
-      /**
-       * That model's answer to the next solve()'s plan (referenced until
-       * then); nullptr: none, the model solves the equations itself if it
-       * needs them.
-       */
-      void
-      set_converged_answer(const Vector<double> *answer);
-
-      /**
-       * A guess of the answer to the next solve() (a linear model's answer
-       * to the same plan), referenced until then; nullptr: none. The
-       * nonlinear models start their first load step from it when it goes
-       * to the full load (the quadratic reference at degree 1 only: at
-       * degree 2 it has DoFs between the vertices); the others ignore it.
-       */
-      void
-      set_initial_guess(const Vector<double> *guess);
-
-      /**
-       * The MPI ranks that share the model's work (default MPI_COMM_WORLD).
-       * On more than one, the models that are distributed (linear FEM, the
-       * mass tensor and mass spring models) spread it over them at setup();
-       * MPI_COMM_SELF keeps a model whole on this rank in an MPI run.
-       */
-      void
-      set_communicator(const MPI_Comm communicator);
-
-      /**
-       * The run's layout on its ranks, shared by its distributed models
-       * (the simulator sets it); without it a distributed model partitions
-       * the scene itself, in cell order.
-       */
-      void
-      set_shared_layout(const std::shared_ptr<SharedDistributedLayout> &layout);
-
     protected:
       /**
        * The scene's layout on the model's ranks (more than one): the shared
@@ -226,7 +234,7 @@ namespace softface
       const DistributedLayout &
       distributed_layout(const Scene &scene);
 
-      /// See set_communicator().
+      /// RunContext::communicator.
       MPI_Comm communicator = MPI_COMM_WORLD;
 
       virtual void
@@ -277,12 +285,15 @@ namespace softface
       void
       warn(const std::string &message);
 
+      /// From the contexts: RunContext::progress (nullptr in a silent
+      /// solve) and, during solve(), the PlanContext's entries.
       std::ostream         *progress = nullptr;
       LoadPath              load_path;
       const Vector<double> *initial_guess    = nullptr;
       const Vector<double> *converged_answer = nullptr;
 
     private:
+      std::ostream                            *run_progress = nullptr;
       std::shared_ptr<SharedDistributedLayout> shared_layout, own_layout;
       /// The phases the timer holds, in the order they first ran, and
       /// the time the diagnostic ones took.

@@ -7,7 +7,7 @@
 #include <softface/core/scene.h>
 #include <softface/models/interface.h>
 #include <softface/models/response_basis.h>
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 
 #include <exception>
 #include <functional>
@@ -39,11 +39,14 @@ namespace softface
     using AfterRun = std::function<
       void(const Report::ModelRun &, Models::Interface &, bool from_basis)>;
 
-    ModelRunner(Scene              &scene,
-                const PlanningList &plannings,
-                std::ostream       &out,
-                std::ostream       &err,
-                AfterRun            after_run);
+    /// @p layout: on several MPI ranks, the partition the distributed
+    /// models share (nullptr on one rank).
+    ModelRunner(Scene                                          &scene,
+                const PlanningList                             &plannings,
+                const std::shared_ptr<SharedDistributedLayout> &layout,
+                std::ostream                                   &out,
+                std::ostream                                   &err,
+                AfterRun                                        after_run);
 
     /**
      * Run every model of @p models, each freed once it has run, appending
@@ -125,12 +128,13 @@ namespace softface
     std::string
     plan_name(unsigned int p) const;
 
-    Scene                         &scene;
-    const PlanningList            &plannings;
-    std::ostream                  &out;
-    std::ostream                  &err;
-    AfterRun                       after_run;
-    std::vector<Report::ModelRun> *runs = nullptr;
+    Scene                                   &scene;
+    const PlanningList                      &plannings;
+    std::shared_ptr<SharedDistributedLayout> layout;
+    std::ostream                            &out;
+    std::ostream                            &err;
+    AfterRun                                 after_run;
+    std::vector<Report::ModelRun>           *runs = nullptr;
     /// Where this run_all() began appending to *runs.
     std::size_t  first_run = 0;
     unsigned int n_failed  = 0;

@@ -9,7 +9,9 @@ namespace softface
 {
   using namespace dealii;
 
-  /// The Output section: where a run writes and what.
+  /// The Output section: where a run writes, and the model the others are
+  /// compared to. What it writes is the outputs' (Outputs::Interface), each
+  /// declaring its own entries of the section.
   struct OutputParameters
   {
     static void
@@ -18,9 +20,6 @@ namespace softface
     parse_parameters(ParameterHandler &prm);
 
     std::string directory;
-    bool        write_vtu                 = true;
-    bool        write_nodal_displacements = false;
-    std::string evaluation_points;
     std::string reference_model;
   };
 } // namespace softface

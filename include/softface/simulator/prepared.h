@@ -7,11 +7,11 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/planning_list.h>
 #include <softface/effects/interface.h>
-#include <softface/fe/point_evaluation.h>
 #include <softface/models/interface.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/simulator/parameters.h>
 #include <softface/simulator/simulator.h>
-#include <softface/simulator/skin_output.h>
 
 #include <memory>
 #include <string>
@@ -29,17 +29,13 @@ namespace softface
     std::vector<std::pair<std::string, std::unique_ptr<Models::Interface>>>
       models;
     std::vector<std::pair<std::string, std::unique_ptr<Effects::Interface>>>
-                                     effects;
-    PlanningList                     plannings;
-    std::unique_ptr<PointEvaluation> evaluation;
-    // On several MPI ranks, on every rank: the evaluation points, their
-    // cells and reference coordinates, for a model whose field lives on the
-    // ranks.
-    std::vector<Point<3>>       evaluation_points;
-    std::vector<unsigned int>   evaluation_cells;
-    std::vector<Point<3>>       evaluation_reference_points;
+                                effects;
+    PlanningList                plannings;
     SkinParameters              skin_parameters;
     std::unique_ptr<SkinOutput> skin;
+    // The outputs the scene asks for, and the run as they see it.
+    std::vector<std::unique_ptr<Outputs::Interface>> outputs;
+    std::unique_ptr<Outputs::Run>                    run;
     // On several MPI ranks every rank runs the scene; rank 0 alone writes
     // the outputs.
     bool writes_outputs = true;

@@ -1,7 +1,7 @@
 #ifndef softface_simulator_rank_policy_h
 #define softface_simulator_rank_policy_h
 
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 
 #include <exception>
 #include <streambuf>

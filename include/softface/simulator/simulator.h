@@ -6,7 +6,7 @@
 #include <softface/core/planning_list.h>
 #include <softface/core/scene.h>
 #include <softface/models/interface.h>
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 
 #include <iostream>
 #include <memory>
@@ -106,20 +106,20 @@ namespace softface
                    double             seconds,
                    std::ostream      &out) const;
     void
-    prepare_evaluation_points(std::ostream &out);
-    void
     prepare_skin(const std::string &filename, std::ostream &out);
+    void
+    prepare_outputs(std::ostream &out);
     void
     write_inputs(const std::string &filename, std::ostream &out);
     void
     check_planning_scale(const std::string &filename) const;
 
-    /// After each plan a model answered: its skins and evaluation points.
+    /// After each plan a model answered: to every output asked for.
     void
     hand_to_outputs(const Report::ModelRun &run,
                     Models::Interface      &model,
                     bool                    from_basis);
-    /// summary.csv, statistics, the fields (vtu or pvtu), the skins.
+    /// Every output asked for writes its files.
     void
     write_outputs(std::ostream &out);
     /// The outputs written, the wall time and the peak memory.

@@ -188,6 +188,369 @@ namespace softface
           }
         return t;
       }
+      /// Checks the schedule and the optimiser's settings; returns the
+      /// coarsest shrink factor.
+      unsigned int
+      check_schedule(const RegistrationParameters &prm)
+      {
+        const std::size_t n_levels = prm.shrink_factors.size();
+        if (n_levels == 0 || prm.smoothing_sigmas.size() != n_levels)
+          throw Error("register: the schedule has " + std::to_string(n_levels) +
+                      " shrink factors and " +
+                      std::to_string(prm.smoothing_sigmas.size()) +
+                      " smoothing sigmas; it needs one or more levels with "
+                      "one of each.");
+        unsigned int coarsest = 1;
+        for (std::size_t l = 0; l < n_levels; ++l)
+          {
+            if (prm.shrink_factors[l] < 1 || !(prm.smoothing_sigmas[l] >= 0.))
+              throw Error(
+                "register: level " + std::to_string(l + 1) +
+                " has shrink factor " + std::to_string(prm.shrink_factors[l]) +
+                " and smoothing sigma " + number(prm.smoothing_sigmas[l]) +
+                "; they must be >= 1 and >= 0.");
+            coarsest = std::max(coarsest, prm.shrink_factors[l]);
+          }
+        if (prm.histogram_bins < 5 || prm.threads < 1 ||
+            prm.max_iterations < 1 || !(prm.learning_rate > 0.) ||
+            !(prm.minimum_step > 0.) ||
+            !(prm.relaxation > 0. && prm.relaxation < 1.))
+          throw Error("register: the optimiser needs at least 5 histogram "
+                      "bins, 1 thread and 1 iteration, a positive learning "
+                      "rate and minimum step, and a relaxation in (0, 1).");
+        return coarsest;
+      }
+
+      /**
+       * The subvolume's voxels in the pre-operative CT, at least 4 across
+       * at the @p coarsest shrink factor; their count and physical extent
+       * (voxel centres) go into @p result.
+       */
+      FloatImage::RegionType
+      subvolume_region(const CTVolume               &pre_operative,
+                       const RegistrationParameters &prm,
+                       const unsigned int            coarsest,
+                       RegistrationResult           &result)
+      {
+        Box box = extent(pre_operative);
+        if (prm.subvolume)
+          {
+            if (prm.subvolume->empty())
+              throw Error("register: the subvolume " +
+                          describe(*prm.subvolume) + " is empty.");
+            box = *prm.subvolume;
+          }
+        const auto             bounds = voxels_in(pre_operative, box);
+        FloatImage::RegionType region;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            region.SetIndex(d, bounds[0][d]);
+            region.SetSize(d, bounds[1][d] - bounds[0][d] + 1);
+            result.subvolume_voxels[d] = region.GetSize(d);
+          }
+        for (unsigned int d = 0; d < 3; ++d)
+          if (result.subvolume_voxels[d] < 4 * coarsest)
+            throw Error("register: the subvolume " + describe(box) + " holds " +
+                        std::to_string(result.subvolume_voxels[0]) + " x " +
+                        std::to_string(result.subvolume_voxels[1]) + " x " +
+                        std::to_string(result.subvolume_voxels[2]) +
+                        " voxels of the pre-operative CT; shrink factor " +
+                        std::to_string(coarsest) + " needs at least " +
+                        std::to_string(4 * coarsest) +
+                        " across in every direction.");
+        const Vec3 a =
+          pre_operative.point(bounds[0][0], bounds[0][1], bounds[0][2]);
+        const Vec3 b =
+          pre_operative.point(bounds[1][0], bounds[1][1], bounds[1][2]);
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            result.subvolume.lower[d] = std::min(a[d], b[d]);
+            result.subvolume.upper[d] = std::max(a[d], b[d]);
+          }
+        return region;
+      }
+
+      /**
+       * The start: the initializer's translation (no rotation), turning
+       * about the subvolume's centre, where rotation and translation are
+       * least coupled.
+       */
+      Transform::Pointer
+      initial_transform(const CTVolume               &pre_operative,
+                        const CTVolume               &post_operative,
+                        const FloatImage::Pointer    &pre,
+                        const FloatImage::Pointer    &post,
+                        const RegistrationParameters &prm,
+                        const Box                    &subvolume)
+      {
+        auto transform = Transform::New();
+        if (prm.initializer != RegistrationParameters::Initializer::identity)
+          {
+            using Initializer = itk::
+              CenteredTransformInitializer<Transform, FloatImage, FloatImage>;
+            auto initializer = Initializer::New();
+            initializer->SetTransform(transform);
+            if (prm.initializer ==
+                RegistrationParameters::Initializer::geometry)
+              {
+                initializer->SetFixedImage(pre);
+                initializer->SetMovingImage(post);
+                initializer->GeometryOn();
+              }
+            else
+              {
+                initializer->SetFixedImage(
+                  float_image(pre_operative, 1000., 0.));
+                initializer->SetMovingImage(
+                  float_image(post_operative, 1000., 0.));
+                initializer->MomentsOn();
+              }
+            initializer->InitializeTransform();
+          }
+        const Transform::OutputVectorType start = transform->GetTranslation();
+        transform->SetIdentity();
+        Transform::InputPointType centre;
+        for (unsigned int d = 0; d < 3; ++d)
+          centre[d] = subvolume.centre()[d];
+        transform->SetCenter(centre);
+        transform->SetTranslation(start);
+        return transform;
+      }
+
+      /**
+       * Mattes mutual information on the subvolume @p region of @p pre:
+       * with Restriction::mask through a mask image (kept in @p mask while
+       * the metric uses it); with crop the fixed image is cropped instead
+       * (fixed_image()).
+       */
+      Metric::Pointer
+      make_metric(const RegistrationParameters &prm,
+                  const FloatImage::Pointer    &pre,
+                  const FloatImage::RegionType &region,
+                  MaskImage::Pointer           &mask)
+      {
+        auto metric = Metric::New();
+        metric->SetNumberOfHistogramBins(prm.histogram_bins);
+        // Gradients by central differences where the metric needs them,
+        // not as whole gradient images.
+        metric->SetUseMovingImageGradientFilter(false);
+        metric->SetUseFixedImageGradientFilter(false);
+        metric->SetMaximumNumberOfWorkUnits(prm.threads);
+        if (prm.restriction == RegistrationParameters::Restriction::mask)
+          {
+            mask = MaskImage::New();
+            mask->CopyInformation(pre);
+            mask->SetRegions(pre->GetLargestPossibleRegion());
+            mask->Allocate(true);
+            for (itk::ImageRegionIterator<MaskImage> it(mask, region);
+                 !it.IsAtEnd();
+                 ++it)
+              it.Set(1);
+            auto object = itk::ImageMaskSpatialObject<3>::New();
+            object->SetImage(mask);
+            object->Update();
+            metric->SetFixedImageMask(object);
+          }
+        return metric;
+      }
+
+      /// The fixed image: @p pre, or its subvolume with Restriction::crop.
+      FloatImage::Pointer
+      fixed_image(const RegistrationParameters &prm,
+                  const FloatImage::Pointer    &pre,
+                  const FloatImage::RegionType &region)
+      {
+        if (prm.restriction != RegistrationParameters::Restriction::crop)
+          return pre;
+        auto crop =
+          itk::RegionOfInterestImageFilter<FloatImage, FloatImage>::New();
+        crop->SetInput(pre);
+        crop->SetRegionOfInterest(region);
+        crop->Update();
+        FloatImage::Pointer fixed = crop->GetOutput();
+        fixed->DisconnectPipeline();
+        return fixed;
+      }
+
+      /**
+       * The parameters' scales from the physical shift at the subvolume's
+       * corners, for the mask too: at the corners of its virtual domain,
+       * the whole CT, a rotation moves points so far that its steps become
+       * too small to converge in 300 iterations.
+       */
+      Scales::Pointer
+      make_scales(const Metric::Pointer &metric, const Box &subvolume)
+      {
+        auto scales = Scales::New();
+        scales->SetMetric(metric);
+        scales->SetTransformForward(true);
+        auto        corners = Scales::VirtualPointSetType::New();
+        std::size_t n       = 0;
+        for (const double x : {subvolume.lower[0], subvolume.upper[0]})
+          for (const double y : {subvolume.lower[1], subvolume.upper[1]})
+            for (const double z : {subvolume.lower[2], subvolume.upper[2]})
+              {
+                Scales::VirtualPointType p;
+                p[0] = x;
+                p[1] = y;
+                p[2] = z;
+                corners->SetPoint(n++, p);
+              }
+        scales->SetVirtualDomainPointSet(corners);
+        return scales;
+      }
+
+      GradientDescent::Pointer
+      make_optimizer(const RegistrationParameters &prm,
+                     const Scales::Pointer        &scales)
+      {
+        GradientDescent::Pointer optimizer;
+        if (prm.optimizer == RegistrationParameters::Optimizer::regular_step)
+          {
+            auto o = RegularStep::New();
+            o->SetLearningRate(prm.learning_rate);
+            o->SetMinimumStepLength(prm.minimum_step);
+            o->SetRelaxationFactor(prm.relaxation);
+            o->SetGradientMagnitudeTolerance(1e-8);
+            optimizer = o;
+          }
+        else
+          {
+            auto o = ConjugateGradient::New();
+            // Each line search brackets [0, 2] times the step that moves no
+            // voxel by more than learning_rate mm.
+            o->SetLearningRate(1.);
+            o->SetMaximumStepSizeInPhysicalUnits(prm.learning_rate);
+            o->SetDoEstimateLearningRateOnce(true);
+            o->SetDoEstimateLearningRateAtEachIteration(false);
+            o->SetLowerLimit(0.);
+            o->SetUpperLimit(2.);
+            o->SetEpsilon(0.01);
+            o->SetMaximumLineSearchIterations(20);
+            o->SetMinimumConvergenceValue(prm.convergence);
+            o->SetConvergenceWindowSize(prm.convergence_window);
+            optimizer = o;
+          }
+        optimizer->SetNumberOfIterations(prm.max_iterations);
+        optimizer->SetScalesEstimator(scales);
+        optimizer->SetNumberOfWorkUnits(prm.threads);
+        return optimizer;
+      }
+
+      /**
+       * The multi-resolution schedule: shrink factors, smoothing (mm) and
+       * sampling, every k-th voxel of a level where it holds more than
+       * prm.samples (regular, jittered by a fixed seed).
+       */
+      void
+      set_schedule(Registration                     &registration,
+                   const RegistrationParameters     &prm,
+                   const std::array<std::size_t, 3> &subvolume_voxels)
+      {
+        const std::size_t n_levels = prm.shrink_factors.size();
+        registration.SetNumberOfLevels(n_levels);
+        Registration::ShrinkFactorsArrayType   shrink(n_levels);
+        Registration::SmoothingSigmasArrayType sigmas(n_levels);
+        for (std::size_t l = 0; l < n_levels; ++l)
+          {
+            shrink[l] = prm.shrink_factors[l];
+            sigmas[l] = prm.smoothing_sigmas[l];
+          }
+        registration.SetShrinkFactorsPerLevel(shrink);
+        registration.SetSmoothingSigmasPerLevel(sigmas);
+        registration.SetSmoothingSigmasAreSpecifiedInPhysicalUnits(true);
+        Registration::MetricSamplingPercentageArrayType fraction(n_levels);
+        bool                                            sampled = false;
+        for (std::size_t l = 0; l < n_levels; ++l)
+          {
+            double n = 1.;
+            for (unsigned int d = 0; d < 3; ++d)
+              n *=
+                std::ceil(double(subvolume_voxels[d]) / prm.shrink_factors[l]);
+            fraction[l] = prm.samples == 0 ? 1. : std::min(1., prm.samples / n);
+            sampled     = sampled || fraction[l] < 1.;
+          }
+        if (sampled)
+          {
+            registration.SetMetricSamplingStrategy(
+              Registration::MetricSamplingStrategyEnum::REGULAR);
+            registration.SetMetricSamplingPercentagePerLevel(fraction);
+            registration.MetricSamplingReinitializeSeed(prm.seed);
+          }
+        else
+          registration.SetMetricSamplingStrategy(
+            Registration::MetricSamplingStrategyEnum::NONE);
+      }
+
+      /// What the observers of each level's start and end read and fill;
+      /// it must outlive the registration's Update().
+      struct LevelObservers
+      {
+        Registration                   *registration;
+        GradientDescent                *optimizer;
+        const RegistrationParameters   *prm;
+        std::vector<RegistrationLevel> *levels;
+      };
+
+      /**
+       * Each level starts with the registration's
+       * MultiResolutionIterationEvent: its first step scaled by its shrink
+       * factor over the first level's (a coarse voxel's worth), so that a
+       * fine level does not jump off the coarse result. Each ends with the
+       * optimiser's EndEvent: its figures into *levels.
+       */
+      void
+      observe_levels(LevelObservers &observers)
+      {
+        auto level_start = itk::CStyleCommand::New();
+        level_start->SetClientData(&observers);
+        level_start->SetCallback(
+          [](itk::Object *, const itk::EventObject &, void *data) {
+            const auto  *c = static_cast<LevelObservers *>(data);
+            const double step =
+              level_learning_rate(*c->prm, c->registration->GetCurrentLevel());
+            if (auto *o = dynamic_cast<RegularStep *>(c->optimizer))
+              o->SetLearningRate(step);
+            else if (auto *o = dynamic_cast<ConjugateGradient *>(c->optimizer))
+              o->SetMaximumStepSizeInPhysicalUnits(step);
+          });
+        observers.registration->AddObserver(
+          itk::MultiResolutionIterationEvent(), level_start);
+
+        auto level_end = itk::CStyleCommand::New();
+        level_end->SetClientData(&observers);
+        level_end->SetCallback(
+          [](itk::Object *, const itk::EventObject &, void *data) {
+            auto             *c = static_cast<LevelObservers *>(data);
+            RegistrationLevel level;
+            const std::size_t l   = c->levels->size();
+            level.shrink_factor   = c->prm->shrink_factors[l];
+            level.smoothing_sigma = c->prm->smoothing_sigmas[l];
+            level.learning_rate   = level_learning_rate(*c->prm, l);
+            level.iterations      = c->optimizer->GetCurrentIteration();
+            level.metric          = c->optimizer->GetCurrentMetricValue();
+            level.stop            = c->optimizer->GetStopConditionDescription();
+            c->levels->push_back(level);
+          });
+        observers.optimizer->AddObserver(itk::EndEvent(), level_end);
+      }
+
+      /// The transform found, in the result's terms.
+      void
+      fill_motion(const Transform &transform, RegistrationResult &result)
+      {
+        const RigidTransform pre_to_post = rigid(transform);
+        result.post_to_pre               = pre_to_post.inverse();
+        const auto versor                = transform.GetVersor();
+        result.versor                    = {
+                             {versor.GetX(), versor.GetY(), versor.GetZ(), versor.GetW()}};
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            result.centre[d]          = transform.GetCenter()[d];
+            result.itk_translation[d] = transform.GetTranslation()[d];
+          }
+        result.angle_degrees = pre_to_post.angle_degrees();
+      }
     } // namespace
 
     bool
@@ -214,316 +577,37 @@ namespace softface
     {
       check_volume(pre_operative, "pre-operative");
       check_volume(post_operative, "post-operative");
-      const std::size_t n_levels = prm.shrink_factors.size();
-      if (n_levels == 0 || prm.smoothing_sigmas.size() != n_levels)
-        throw Error("register: the schedule has " + std::to_string(n_levels) +
-                    " shrink factors and " +
-                    std::to_string(prm.smoothing_sigmas.size()) +
-                    " smoothing sigmas; it needs one or more levels with one "
-                    "of each.");
-      unsigned int coarsest = 1;
-      for (std::size_t l = 0; l < n_levels; ++l)
-        {
-          if (prm.shrink_factors[l] < 1 || !(prm.smoothing_sigmas[l] >= 0.))
-            throw Error(
-              "register: level " + std::to_string(l + 1) +
-              " has shrink factor " + std::to_string(prm.shrink_factors[l]) +
-              " and smoothing sigma " + number(prm.smoothing_sigmas[l]) +
-              "; they must be >= 1 and >= 0.");
-          coarsest = std::max(coarsest, prm.shrink_factors[l]);
-        }
-      if (prm.histogram_bins < 5 || prm.threads < 1 || prm.max_iterations < 1 ||
-          !(prm.learning_rate > 0.) || !(prm.minimum_step > 0.) ||
-          !(prm.relaxation > 0. && prm.relaxation < 1.))
-        throw Error("register: the optimiser needs at least 5 histogram "
-                    "bins, 1 thread and 1 iteration, a positive learning rate "
-                    "and minimum step, and a relaxation in (0, 1).");
-
+      const unsigned int coarsest = check_schedule(prm);
       RegistrationResult result;
-
-      // The subvolume: its voxels in the pre-operative CT.
-      Box box = extent(pre_operative);
-      if (prm.subvolume)
-        {
-          if (prm.subvolume->empty())
-            throw Error("register: the subvolume " + describe(*prm.subvolume) +
-                        " is empty.");
-          box = *prm.subvolume;
-        }
-      const auto             region_bounds = voxels_in(pre_operative, box);
-      FloatImage::RegionType region;
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          region.SetIndex(d, region_bounds[0][d]);
-          region.SetSize(d, region_bounds[1][d] - region_bounds[0][d] + 1);
-          result.subvolume_voxels[d] = region.GetSize(d);
-        }
-      // At least 4 voxels across at the coarsest level.
-      for (unsigned int d = 0; d < 3; ++d)
-        if (result.subvolume_voxels[d] < 4 * coarsest)
-          throw Error("register: the subvolume " + describe(box) + " holds " +
-                      std::to_string(result.subvolume_voxels[0]) + " x " +
-                      std::to_string(result.subvolume_voxels[1]) + " x " +
-                      std::to_string(result.subvolume_voxels[2]) +
-                      " voxels of the pre-operative CT; shrink factor " +
-                      std::to_string(coarsest) + " needs at least " +
-                      std::to_string(4 * coarsest) +
-                      " across in every direction.");
-      {
-        const Vec3 a = pre_operative.point(region_bounds[0][0],
-                                           region_bounds[0][1],
-                                           region_bounds[0][2]);
-        const Vec3 b = pre_operative.point(region_bounds[1][0],
-                                           region_bounds[1][1],
-                                           region_bounds[1][2]);
-        for (unsigned int d = 0; d < 3; ++d)
-          {
-            result.subvolume.lower[d] = std::min(a[d], b[d]);
-            result.subvolume.upper[d] = std::max(a[d], b[d]);
-          }
-      }
-
+      const auto         region =
+        subvolume_region(pre_operative, prm, coarsest, result);
       try
         {
-          const FloatImage::Pointer pre  = float_image(pre_operative);
-          const FloatImage::Pointer post = float_image(post_operative);
-
-          // Start: the initializer's translation (no rotation), turning
-          // about the subvolume's centre, where rotation and translation
-          // are least coupled.
-          auto transform = Transform::New();
-          if (prm.initializer != RegistrationParameters::Initializer::identity)
-            {
-              using Initializer = itk::
-                CenteredTransformInitializer<Transform, FloatImage, FloatImage>;
-              auto initializer = Initializer::New();
-              initializer->SetTransform(transform);
-              if (prm.initializer ==
-                  RegistrationParameters::Initializer::geometry)
-                {
-                  initializer->SetFixedImage(pre);
-                  initializer->SetMovingImage(post);
-                  initializer->GeometryOn();
-                }
-              else
-                {
-                  initializer->SetFixedImage(
-                    float_image(pre_operative, 1000., 0.));
-                  initializer->SetMovingImage(
-                    float_image(post_operative, 1000., 0.));
-                  initializer->MomentsOn();
-                }
-              initializer->InitializeTransform();
-            }
-          const Transform::OutputVectorType start = transform->GetTranslation();
-          transform->SetIdentity();
-          Transform::InputPointType centre;
-          for (unsigned int d = 0; d < 3; ++d)
-            centre[d] = result.subvolume.centre()[d];
-          transform->SetCenter(centre);
-          transform->SetTranslation(start);
-
-          FloatImage::Pointer fixed = pre;
-          MaskImage::Pointer  mask;
-          if (prm.restriction == RegistrationParameters::Restriction::crop)
-            {
-              auto crop =
-                itk::RegionOfInterestImageFilter<FloatImage, FloatImage>::New();
-              crop->SetInput(pre);
-              crop->SetRegionOfInterest(region);
-              crop->Update();
-              fixed = crop->GetOutput();
-              fixed->DisconnectPipeline();
-            }
-
-          auto metric = Metric::New();
-          metric->SetNumberOfHistogramBins(prm.histogram_bins);
-          // Gradients by central differences where the metric needs them,
-          // not as whole gradient images.
-          metric->SetUseMovingImageGradientFilter(false);
-          metric->SetUseFixedImageGradientFilter(false);
-          metric->SetMaximumNumberOfWorkUnits(prm.threads);
-          if (prm.restriction == RegistrationParameters::Restriction::mask)
-            {
-              mask = MaskImage::New();
-              mask->CopyInformation(pre);
-              mask->SetRegions(pre->GetLargestPossibleRegion());
-              mask->Allocate(true);
-              for (itk::ImageRegionIterator<MaskImage> it(mask, region);
-                   !it.IsAtEnd();
-                   ++it)
-                it.Set(1);
-              auto object = itk::ImageMaskSpatialObject<3>::New();
-              object->SetImage(mask);
-              object->Update();
-              metric->SetFixedImageMask(object);
-            }
-
-          // The parameters' scales from the physical shift at the
-          // subvolume's corners, for the mask too: at the corners of its
-          // virtual domain, the whole CT, a rotation moves points so far
-          // that its steps become too small to converge in 300 iterations.
-          auto scales = Scales::New();
-          scales->SetMetric(metric);
-          scales->SetTransformForward(true);
-          {
-            auto        corners = Scales::VirtualPointSetType::New();
-            std::size_t n       = 0;
-            for (const double x :
-                 {result.subvolume.lower[0], result.subvolume.upper[0]})
-              for (const double y :
-                   {result.subvolume.lower[1], result.subvolume.upper[1]})
-                for (const double z :
-                     {result.subvolume.lower[2], result.subvolume.upper[2]})
-                  {
-                    Scales::VirtualPointType p;
-                    p[0] = x;
-                    p[1] = y;
-                    p[2] = z;
-                    corners->SetPoint(n++, p);
-                  }
-            scales->SetVirtualDomainPointSet(corners);
-          }
-
-          GradientDescent::Pointer optimizer;
-          if (prm.optimizer == RegistrationParameters::Optimizer::regular_step)
-            {
-              auto o = RegularStep::New();
-              o->SetLearningRate(prm.learning_rate);
-              o->SetMinimumStepLength(prm.minimum_step);
-              o->SetRelaxationFactor(prm.relaxation);
-              o->SetGradientMagnitudeTolerance(1e-8);
-              optimizer = o;
-            }
-          else
-            {
-              auto o = ConjugateGradient::New();
-              // Each line search brackets [0, 2] times the step that
-              // moves no voxel by more than learning_rate mm.
-              o->SetLearningRate(1.);
-              o->SetMaximumStepSizeInPhysicalUnits(prm.learning_rate);
-              o->SetDoEstimateLearningRateOnce(true);
-              o->SetDoEstimateLearningRateAtEachIteration(false);
-              o->SetLowerLimit(0.);
-              o->SetUpperLimit(2.);
-              o->SetEpsilon(0.01);
-              o->SetMaximumLineSearchIterations(20);
-              o->SetMinimumConvergenceValue(prm.convergence);
-              o->SetConvergenceWindowSize(prm.convergence_window);
-              optimizer = o;
-            }
-          optimizer->SetNumberOfIterations(prm.max_iterations);
-          optimizer->SetScalesEstimator(scales);
-          optimizer->SetNumberOfWorkUnits(prm.threads);
+          const FloatImage::Pointer pre       = float_image(pre_operative);
+          const FloatImage::Pointer post      = float_image(post_operative);
+          auto                      transform = initial_transform(
+            pre_operative, post_operative, pre, post, prm, result.subvolume);
+          MaskImage::Pointer mask;
+          auto               metric = make_metric(prm, pre, region, mask);
+          auto               optimizer =
+            make_optimizer(prm, make_scales(metric, result.subvolume));
 
           auto registration = Registration::New();
-          registration->SetFixedImage(fixed);
+          registration->SetFixedImage(fixed_image(prm, pre, region));
           registration->SetMovingImage(post);
           registration->SetMetric(metric);
           registration->SetOptimizer(optimizer);
           registration->SetInitialTransform(transform);
           registration->InPlaceOn();
-          registration->SetNumberOfLevels(n_levels);
-          Registration::ShrinkFactorsArrayType   shrink(n_levels);
-          Registration::SmoothingSigmasArrayType sigmas(n_levels);
-          for (std::size_t l = 0; l < n_levels; ++l)
-            {
-              shrink[l] = prm.shrink_factors[l];
-              sigmas[l] = prm.smoothing_sigmas[l];
-            }
-          registration->SetShrinkFactorsPerLevel(shrink);
-          registration->SetSmoothingSigmasPerLevel(sigmas);
-          registration->SetSmoothingSigmasAreSpecifiedInPhysicalUnits(true);
-          // Sampling: every k-th voxel of a level where it holds more than
-          // prm.samples (regular, jittered by a fixed seed).
-          Registration::MetricSamplingPercentageArrayType fraction(n_levels);
-          bool                                            sampled = false;
-          for (std::size_t l = 0; l < n_levels; ++l)
-            {
-              double n = 1.;
-              for (unsigned int d = 0; d < 3; ++d)
-                n *= std::ceil(double(result.subvolume_voxels[d]) /
-                               prm.shrink_factors[l]);
-              fraction[l] =
-                prm.samples == 0 ? 1. : std::min(1., prm.samples / n);
-              sampled = sampled || fraction[l] < 1.;
-            }
-          if (sampled)
-            {
-              registration->SetMetricSamplingStrategy(
-                Registration::MetricSamplingStrategyEnum::REGULAR);
-              registration->SetMetricSamplingPercentagePerLevel(fraction);
-              registration->MetricSamplingReinitializeSeed(prm.seed);
-            }
-          else
-            registration->SetMetricSamplingStrategy(
-              Registration::MetricSamplingStrategyEnum::NONE);
-
-          // Each level starts with the registration's
-          // MultiResolutionIterationEvent: its first step scaled by its
-          // shrink factor over the first level's (a coarse voxel's worth),
-          // so that a fine level does not jump off the coarse result.
-          auto level_start = itk::CStyleCommand::New();
-          struct Start
-          {
-            Registration                 *registration;
-            GradientDescent              *optimizer;
-            const RegistrationParameters *prm;
-          } start_context{registration.GetPointer(),
-                          optimizer.GetPointer(),
-                          &prm};
-          level_start->SetClientData(&start_context);
-          level_start->SetCallback([](itk::Object *,
-                                      const itk::EventObject &,
-                                      void *data) {
-            const auto  *c = static_cast<Start *>(data);
-            const double step =
-              level_learning_rate(*c->prm, c->registration->GetCurrentLevel());
-            if (auto *o = dynamic_cast<RegularStep *>(c->optimizer))
-              o->SetLearningRate(step);
-            else if (auto *o = dynamic_cast<ConjugateGradient *>(c->optimizer))
-              o->SetMaximumStepSizeInPhysicalUnits(step);
-          });
-          registration->AddObserver(itk::MultiResolutionIterationEvent(),
-                                    level_start);
-
-          // Each level ends with the optimiser's EndEvent.
-          auto level_end = itk::CStyleCommand::New();
-          struct Context
-          {
-            GradientDescent                *optimizer;
-            const RegistrationParameters   *prm;
-            std::vector<RegistrationLevel> *levels;
-          } context{optimizer.GetPointer(), &prm, &result.levels};
-          level_end->SetClientData(&context);
-          level_end->SetCallback(
-            [](itk::Object *, const itk::EventObject &, void *data) {
-              auto             *c = static_cast<Context *>(data);
-              RegistrationLevel level;
-              const std::size_t l   = c->levels->size();
-              level.shrink_factor   = c->prm->shrink_factors[l];
-              level.smoothing_sigma = c->prm->smoothing_sigmas[l];
-              level.learning_rate   = level_learning_rate(*c->prm, l);
-              level.iterations      = c->optimizer->GetCurrentIteration();
-              level.metric          = c->optimizer->GetCurrentMetricValue();
-              level.stop = c->optimizer->GetStopConditionDescription();
-              c->levels->push_back(level);
-            });
-          optimizer->AddObserver(itk::EndEvent(), level_end);
+          set_schedule(*registration, prm, result.subvolume_voxels);
+          LevelObservers observers{registration.GetPointer(),
+                                   optimizer.GetPointer(),
+                                   &prm,
+                                   &result.levels};
+          observe_levels(observers);
           registration->Update();
           result.metric = metric->GetValue();
-
-          const RigidTransform pre_to_post = rigid(*transform);
-          result.post_to_pre               = pre_to_post.inverse();
-          const auto versor                = transform->GetVersor();
-          result.versor                    = {
-                               {versor.GetX(), versor.GetY(), versor.GetZ(), versor.GetW()}};
-          for (unsigned int d = 0; d < 3; ++d)
-            {
-              result.centre[d]          = transform->GetCenter()[d];
-              result.itk_translation[d] = transform->GetTranslation()[d];
-            }
-          result.angle_degrees = pre_to_post.angle_degrees();
+          fill_motion(*transform, result);
         }
       catch (const itk::ExceptionObject &e)
         {

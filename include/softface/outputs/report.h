@@ -1,5 +1,5 @@
-#ifndef softface_simulator_report_h
-#define softface_simulator_report_h
+#ifndef softface_outputs_report_h
+#define softface_outputs_report_h
 
 #include <deal.II/base/table_handler.h>
 #include <deal.II/lac/vector.h>

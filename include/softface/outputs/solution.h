@@ -1,11 +1,11 @@
-#ifndef softface_simulator_output_h
-#define softface_simulator_output_h
+#ifndef softface_outputs_solution_h
+#define softface_outputs_solution_h
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/vector.h>
 
 #include <softface/core/scene.h>
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 
 #include <string>
 #include <vector>
@@ -15,16 +15,12 @@ namespace softface
   class DistributedLayout;
 
   /**
-   * The fields a run writes: one VTU for ParaView with every model's
-   * displacement and the scene's labels, and per-vertex displacement CSVs.
+   * The fields of the 'solution' output (source/outputs/solution.cc): one
+   * VTU for ParaView with every model's displacement and the scene's labels,
+   * or its pieces on several ranks.
    */
-  namespace Output
+  namespace Outputs
   {
-    /// "mass tensor" -> "mass_tensor", "linear fem, bone rotation angle 5"
-    /// -> "linear_fem_bone_rotation_angle_5"
-    std::string
-    file_name_of(const std::string &model);
-
     /**
      * One VTU with every successful model's displacement
      * ("displacement_<model>"), the join/free flag (1 = join) and the segment
@@ -52,7 +48,7 @@ namespace softface
                const MPI_Comm                       communicator);
 
     /**
-     * The same fields on the ranks of @p layout (issue 20): each rank
+     * The same fields on the ranks of @p layout: each rank
      * writes the piece <stem>.<rank>.vtu of the cells it owns and rank 0 the
      * record <stem>.pvtu that ParaView opens as one mesh (and removes a
      * <stem>.vtu left by a serial run). It reads the rank's part of the mesh
@@ -63,13 +59,7 @@ namespace softface
     write_pvtu(const DistributedLayout             &layout,
                const std::vector<Report::ModelRun> &runs,
                const std::string                   &stem);
-
-    /// Columns x,y,z,ux,uy,uz: one row per vertex, reference coordinates.
-    void
-    write_nodal_displacements(const Scene          &scene,
-                              const Vector<double> &displacement,
-                              const std::string    &filename);
-  } // namespace Output
+  } // namespace Outputs
 } // namespace softface
 
 #endif

@@ -1,5 +1,5 @@
-#ifndef softface_simulator_skin_output_h
-#define softface_simulator_skin_output_h
+#ifndef softface_outputs_skin_output_h
+#define softface_outputs_skin_output_h
 
 #include <deal.II/base/parameter_handler.h>
 #include <deal.II/lac/vector.h>

@@ -1,6 +1,6 @@
-// The fields a run writes (simulator): solution.vtu (or, on several MPI
-// ranks, solution.pvtu and a piece per rank) with every model's displacement
-// and the scene's labels for ParaView, and per-vertex CSVs.
+// The 'solution' output: solution.vtu (or, on several MPI ranks,
+// solution.pvtu and a piece per rank) with every model's displacement and the
+// scene's labels for ParaView ('Output/Write VTU').
 
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -10,7 +10,8 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
-#include <softface/simulator/output.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/solution.h>
 
 #include <algorithm>
 #include <cctype>
@@ -22,23 +23,8 @@
 
 namespace softface
 {
-  namespace Output
+  namespace Outputs
   {
-    std::string
-    file_name_of(const std::string &model)
-    {
-      // Letters, digits, '.', '-' and '+' stay; any run of other characters
-      // (spaces, the comma before a plan's name) becomes one '_'.
-      std::string name;
-      for (const char c : model)
-        if (std::isalnum(static_cast<unsigned char>(c)) || c == '.' ||
-            c == '-' || c == '+')
-          name += c;
-        else if (name.empty() || name.back() != '_')
-          name += '_';
-      return name;
-    }
-
     namespace
     {
       /// A vertex's join flag (1: a join point) and segment id (-1: free)
@@ -317,23 +303,72 @@ namespace softface
       write_piece_and_record(fields.data_out, stem, communicator);
     }
 
-    void
-    write_nodal_displacements(const Scene          &scene,
-                              const Vector<double> &u,
-                              const std::string    &filename)
+    namespace
     {
-      std::ofstream out = open_output_file(filename);
-      out << "x,y,z,ux,uy,uz\n" << std::setprecision(12);
-      const auto &vertices = scene.triangulation.get_vertices();
-      for (unsigned int v = 0; v < vertices.size(); ++v)
+      class Solution : public Interface
+      {
+      public:
+        static void
+        declare_parameters(ParameterHandler &prm)
         {
-          const auto &dofs = scene.vertex_dofs()[v];
-          if (dofs[0] == numbers::invalid_dof_index)
-            continue;
-          out << vertices[v][0] << ',' << vertices[v][1] << ','
-              << vertices[v][2] << ',' << u[dofs[0]] << ',' << u[dofs[1]] << ','
-              << u[dofs[2]] << '\n';
+          prm.declare_entry("Write VTU",
+                            "true",
+                            Patterns::Bool(),
+                            "Write solution.vtu: every model's displacement, "
+                            "the join flag and segment id per vertex, "
+                            "material ids.");
         }
-    }
-  } // namespace Output
+
+        void
+        parse_parameters(ParameterHandler &prm, const std::string &) override
+        {
+          asked = prm.get_bool("Write VTU");
+        }
+
+        bool
+        requested() const override
+        {
+          return asked;
+        }
+
+        void
+        write(const Run &run, std::ostream &) override
+        {
+          if (Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) == 1)
+            {
+              write_vtu(run.scene, run.runs, run.directory + "/solution.vtu");
+              return;
+            }
+          // On several ranks each writes its piece of the fields, in rank
+          // 0's folder (the only one made).
+          const std::string stem =
+            Utilities::MPI::broadcast(MPI_COMM_WORLD, run.directory, 0) +
+            "/solution";
+          // From the ranks' parts where a model made them (or a rank holds
+          // no cells); a partition for output alone would cost seconds.
+          if (run.layout->built() || run.members_without_cells)
+            write_pvtu(run.layout->get(run.scene), run.runs, stem);
+          else
+            write_pvtu(run.scene, run.runs, stem, MPI_COMM_WORLD);
+        }
+
+        std::string
+        files(const Run &) const override
+        {
+          return Utilities::MPI::n_mpi_processes(MPI_COMM_WORLD) > 1 ?
+                   "solution.pvtu with a piece per rank" :
+                   "solution.vtu";
+        }
+
+      private:
+        bool asked = true;
+      };
+    } // namespace
+
+    SOFTFACE_REGISTER_OUTPUT(Solution,
+                             "solution",
+                             "solution.vtu ('Write VTU'; .pvtu and a piece per "
+                             "rank on several ranks): every model's "
+                             "displacement and the scene's labels")
+  } // namespace Outputs
 } // namespace softface

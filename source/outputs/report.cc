@@ -5,7 +5,7 @@
 
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
-#include <softface/simulator/report.h>
+#include <softface/outputs/report.h>
 
 #include <charconv>
 #include <cmath>

@@ -7,10 +7,10 @@
 
 #include <softface/core/error.h>
 #include <softface/io/output_file.h>
+#include <softface/outputs/interface.h>
+#include <softface/outputs/skin_output.h>
 #include <softface/patient/backend.h>
 #include <softface/patient/tetrahedral_mesh.h>
-#include <softface/simulator/output.h>
-#include <softface/simulator/skin_output.h>
 #include <softface/validation/tps_rpm.h>
 
 #include <filesystem>
@@ -418,7 +418,7 @@ namespace softface
             fields.push_back({"to exact partner", 3, exact_offsets});
           }
         const std::string name =
-          directory + "/skin_" + Output::file_name_of(model) +
+          directory + "/skin_" + Outputs::file_name_of(model) +
           (parameters.methods.size() > 1 ? "_" + short_name(row.method) : "");
         Patient::backend().write_surface(to_patient(predicted),
                                          name + ".ply",
