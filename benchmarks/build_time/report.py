@@ -57,7 +57,7 @@ def main(csv_file, results):
               "![build time](build_time.png)", ""]
     open(os.path.join(results, "build_time.md"), "w").write("\n".join(lines))
 
-    fig, ax = plt.subplots(figsize=(6, 2.6))
+    fig, ax = plt.subplots(figsize=(7, 2.6))
     names = ["plain", "default"]
     user = [float(by[n]["user_s"]) / 60 for n in names]
     system = [float(by[n]["system_s"]) / 60 for n in names]
@@ -69,7 +69,7 @@ def main(csv_file, results):
     ax.set_yticks(list(y))
     ax.set_yticklabels([LABELS[n] for n in names])
     ax.set_xlabel("minutes (2 cores)")
-    ax.legend(loc="lower right", fontsize=8)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1), fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(results, "build_time.png"), dpi=120)
     print("wrote", os.path.join(results, "build_time.md"))

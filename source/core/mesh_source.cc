@@ -2,10 +2,8 @@
 // SOFTFACE_REGISTER_MESH_SOURCE fills and the 'Scene/Mesh source' entry that
 // chooses one.
 
-#include <softface/core/error.h>
 #include <softface/core/mesh_source.h>
-
-#include <map>
+#include <softface/core/plugin_registry.h>
 
 namespace softface
 {
@@ -15,10 +13,10 @@ namespace softface
     {
       // Function-local so that registrations from static initialisers in
       // any translation unit find it constructed.
-      std::map<std::string, Registration> &
+      NamedRegistry<Registration> &
       registry()
       {
-        static std::map<std::string, Registration> sources;
+        static NamedRegistry<Registration> sources("mesh source");
         return sources;
       }
     } // namespace
@@ -27,16 +25,13 @@ namespace softface
     declare_parameters(ParameterHandler               &prm,
                        const std::vector<std::string> &first_pass_names)
     {
-      std::string names, description;
+      std::string description;
       for (const auto &[name, registration] : registry())
-        {
-          names += (names.empty() ? "" : "|") + name;
-          description += (description.empty() ? "" : ", ") + ("'" + name) +
-                         "' " + registration.description;
-        }
+        description += (description.empty() ? "" : ", ") + ("'" + name) + "' " +
+                       registration.description;
       prm.declare_entry("Mesh source",
                         "cube",
-                        Patterns::Selection(names),
+                        Patterns::Selection(registry().joined_names("|")),
                         "Where the tetrahedral mesh comes from: " +
                           description + ".");
       for (const auto &[name, registration] : registry())
@@ -57,21 +52,18 @@ namespace softface
     std::unique_ptr<Interface>
     create(ParameterHandler &prm)
     {
-      const std::string name   = prm.get("Mesh source");
-      const auto        source = registry().find(name);
+      const std::string   name   = prm.get("Mesh source");
+      const Registration *source = registry().find(name);
       // The entry's pattern lists the registered sources only.
-      AssertThrow(source != registry().end(),
+      AssertThrow(source != nullptr,
                   ExcMessage("Unknown mesh source '" + name + "'."));
-      return source->second.factory();
+      return source->factory();
     }
 
     std::string
     describe_registered()
     {
-      std::string text;
-      for (const auto &[name, registration] : registry())
-        text += "  " + name + ": " + registration.description + "\n";
-      return text;
+      return registry().describe();
     }
 
     namespace internal
@@ -79,9 +71,7 @@ namespace softface
       bool
       register_mesh_source(const std::string &name, Registration registration)
       {
-        if (!registry().emplace(name, std::move(registration)).second)
-          throw Error("Mesh source '" + name + "' is registered twice.");
-        return true;
+        return registry().add(name, std::move(registration));
       }
     } // namespace internal
   }   // namespace MeshSources

@@ -101,7 +101,8 @@ namespace softface
 
     namespace
     {
-      using Face = std::array<unsigned int, 3>;
+      using Face   = std::array<unsigned int, 3>;
+      using Copies = std::vector<std::pair<unsigned int, unsigned int>>;
 
       Face
       sorted_face(const unsigned int a,
@@ -120,213 +121,278 @@ namespace softface
           i = parent[i] = parent[parent[i]];
         return i;
       }
-    } // namespace
 
-    std::string
-    SeparatedLips::prepare_mesh(Scene &scene) const
-    {
-      Triangulation<3> &tria  = scene.triangulation;
-      const auto        above = [&](const Point<3> &x) {
-        return (x - point) * normal >= 0.;
+      // The mesh as arrays, to be cut: cell vertices, materials, sides;
+      // boundary ids by face.
+      struct MeshArrays
+      {
+        std::vector<Point<3>>                    vertices;
+        std::vector<std::array<unsigned int, 4>> cells;
+        std::vector<types::material_id>          materials;
+        std::vector<bool>                        cell_above;
+        std::map<Face, types::boundary_id>       boundary_of;
+        // Per cell: the neighbour across each face (or -1) and whether that
+        // face's centre lies in the region.
+        std::vector<std::array<int, 4>>  neighbour;
+        std::vector<std::array<bool, 4>> in_region;
+
+        // Face f of cell c is on the slit: in the region, between the sides.
+        bool
+        slit_face(const unsigned int c, const unsigned int f) const
+        {
+          return neighbour[c][f] >= 0 && in_region[c][f] &&
+                 cell_above[c] != cell_above[neighbour[c][f]];
+        }
       };
 
-      // The mesh as arrays: cell vertices, materials, sides; boundary ids
-      // by face.
-      std::vector<Point<3>>                    vertices = tria.get_vertices();
-      std::vector<std::array<unsigned int, 4>> cells;
-      std::vector<types::material_id>          materials;
-      std::vector<bool>                        cell_above;
-      std::map<Face, types::boundary_id>       boundary_of;
-      // Per cell: the neighbour across each face (or -1) and whether that
-      // face's centre lies in the region.
-      std::vector<std::array<int, 4>>  neighbour;
-      std::vector<std::array<bool, 4>> in_region;
-      for (const auto &cell : tria.active_cell_iterators())
-        {
-          std::array<unsigned int, 4> v;
-          for (unsigned int a = 0; a < 4; ++a)
-            v[a] = cell->vertex_index(a);
-          cells.push_back(v);
-          materials.push_back(cell->material_id());
-          cell_above.push_back(above(cell->center()));
-          std::array<int, 4>  across;
-          std::array<bool, 4> inside;
-          for (const unsigned int f : cell->face_indices())
-            {
-              const auto face = cell->face(f);
-              inside[f]       = region.contains(face->center());
-              across[f]       = face->at_boundary() ?
-                                  -1 :
-                                  cell->neighbor(f)->active_cell_index();
-              if (face->at_boundary())
-                {
-                  if (face->boundary_id() == slit_boundary_id)
-                    throw Error("Effects/separated lips: the mesh uses "
-                                "boundary id 252, which marks the slit.");
-                  boundary_of[sorted_face(face->vertex_index(0),
-                                          face->vertex_index(1),
-                                          face->vertex_index(2))] =
-                    face->boundary_id();
-                }
-            }
-          neighbour.push_back(across);
-          in_region.push_back(inside);
-        }
+      MeshArrays
+      read_mesh(const Triangulation<3>  &tria,
+                const Point<3>          &point,
+                const Tensor<1, 3>      &normal,
+                const Region            &region,
+                const types::boundary_id slit_boundary_id)
+      {
+        MeshArrays mesh;
+        mesh.vertices = tria.get_vertices();
+        for (const auto &cell : tria.active_cell_iterators())
+          {
+            std::array<unsigned int, 4> v;
+            for (unsigned int a = 0; a < 4; ++a)
+              v[a] = cell->vertex_index(a);
+            mesh.cells.push_back(v);
+            mesh.materials.push_back(cell->material_id());
+            mesh.cell_above.push_back((cell->center() - point) * normal >= 0.);
+            std::array<int, 4>  across;
+            std::array<bool, 4> inside;
+            for (const unsigned int f : cell->face_indices())
+              {
+                const auto face = cell->face(f);
+                inside[f]       = region.contains(face->center());
+                across[f]       = face->at_boundary() ?
+                                    -1 :
+                                    cell->neighbor(f)->active_cell_index();
+                if (face->at_boundary())
+                  {
+                    if (face->boundary_id() == slit_boundary_id)
+                      throw Error("Effects/separated lips: the mesh uses "
+                                  "boundary id 252, which marks the slit.");
+                    mesh.boundary_of[sorted_face(face->vertex_index(0),
+                                                 face->vertex_index(1),
+                                                 face->vertex_index(2))] =
+                      face->boundary_id();
+                  }
+              }
+            mesh.neighbour.push_back(across);
+            mesh.in_region.push_back(inside);
+          }
+        return mesh;
+      }
+
       // On an unstructured mesh the cells nearest the plane zigzag, and a
       // group of cells on one side may touch the rest of the mesh only
       // across the slit and by edges or vertices: cut, it would hinge (a
       // mechanism) or float. Every group of cells joined by faces that are
       // not on the slit must be the whole mesh; a smaller one joins the
       // side around it, until none is left.
-      const auto slit_face = [&](const unsigned int c, const unsigned int f) {
-        return neighbour[c][f] >= 0 && in_region[c][f] &&
-               cell_above[c] != cell_above[neighbour[c][f]];
-      };
-      for (unsigned int round = 0;; ++round)
-        {
-          std::vector<unsigned int> parent(cells.size());
-          std::iota(parent.begin(), parent.end(), 0u);
-          for (unsigned int c = 0; c < cells.size(); ++c)
-            for (unsigned int f = 0; f < 4; ++f)
-              if (neighbour[c][f] >= 0 && !slit_face(c, f))
-                parent[find_root(parent, c)] =
-                  find_root(parent, neighbour[c][f]);
-          std::map<unsigned int, unsigned int> size_of_group;
-          for (unsigned int c = 0; c < cells.size(); ++c)
-            ++size_of_group[find_root(parent, c)];
-          if (size_of_group.size() == 1)
-            break;
-          if (round == 100)
-            throw Error("Effects/separated lips: the slit in mesh " +
-                        scene.mesh_description +
-                        " keeps cutting off pieces of tissue; choose a "
-                        "plane and region that cut the lips cleanly.");
-          unsigned int largest = 0, largest_size = 0;
-          for (const auto &[root, size] : size_of_group)
-            if (size > largest_size)
-              largest = root, largest_size = size;
-          for (unsigned int c = 0; c < cells.size(); ++c)
-            if (find_root(parent, c) != largest)
-              cell_above[c] = !cell_above[c];
-        }
-      std::set<Face> slit;
-      for (unsigned int c = 0; c < cells.size(); ++c)
-        for (unsigned int f = 0; f < 4; ++f)
-          if (cell_above[c] && slit_face(c, f))
-            {
-              // The face: the three vertices the two cells share.
-              std::vector<unsigned int> w;
-              const auto               &other = cells[neighbour[c][f]];
-              for (const unsigned int a : cells[c])
-                if (std::find(other.begin(), other.end(), a) != other.end())
-                  w.push_back(a);
-              slit.insert(sorted_face(w[0], w[1], w[2]));
-            }
-      if (slit.empty())
-        throw Error("Effects/separated lips: no face of mesh " +
-                    scene.mesh_description +
-                    " separates cells on the two sides of the slit plane "
-                    "inside the region.");
+      void
+      join_cut_off_groups(MeshArrays &mesh, const std::string &description)
+      {
+        const unsigned int n_cells = mesh.cells.size();
+        for (unsigned int round = 0;; ++round)
+          {
+            std::vector<unsigned int> parent(n_cells);
+            std::iota(parent.begin(), parent.end(), 0u);
+            for (unsigned int c = 0; c < n_cells; ++c)
+              for (unsigned int f = 0; f < 4; ++f)
+                if (mesh.neighbour[c][f] >= 0 && !mesh.slit_face(c, f))
+                  parent[find_root(parent, c)] =
+                    find_root(parent, mesh.neighbour[c][f]);
+            std::map<unsigned int, unsigned int> size_of_group;
+            for (unsigned int c = 0; c < n_cells; ++c)
+              ++size_of_group[find_root(parent, c)];
+            if (size_of_group.size() == 1)
+              return;
+            if (round == 100)
+              throw Error("Effects/separated lips: the slit in mesh " +
+                          description +
+                          " keeps cutting off pieces of tissue; choose a "
+                          "plane and region that cut the lips cleanly.");
+            unsigned int largest = 0, largest_size = 0;
+            for (const auto &[root, size] : size_of_group)
+              if (size > largest_size)
+                largest = root, largest_size = size;
+            for (unsigned int c = 0; c < n_cells; ++c)
+              if (find_root(parent, c) != largest)
+                mesh.cell_above[c] = !mesh.cell_above[c];
+          }
+      }
+
+      std::set<Face>
+      find_slit(const MeshArrays &mesh, const std::string &description)
+      {
+        std::set<Face> slit;
+        for (unsigned int c = 0; c < mesh.cells.size(); ++c)
+          for (unsigned int f = 0; f < 4; ++f)
+            if (mesh.cell_above[c] && mesh.slit_face(c, f))
+              {
+                // The face: the three vertices the two cells share.
+                std::vector<unsigned int> w;
+                const auto &other = mesh.cells[mesh.neighbour[c][f]];
+                for (const unsigned int a : mesh.cells[c])
+                  if (std::find(other.begin(), other.end(), a) != other.end())
+                    w.push_back(a);
+                slit.insert(sorted_face(w[0], w[1], w[2]));
+              }
+        if (slit.empty())
+          throw Error("Effects/separated lips: no face of mesh " + description +
+                      " separates cells on the two sides of the slit plane "
+                      "inside the region.");
+        return slit;
+      }
 
       // The cells around each slit vertex, grouped by the faces through the
-      // vertex that are not slit faces.
-      std::map<unsigned int, std::vector<unsigned int>> star;
-      for (const Face &f : slit)
-        for (const unsigned int v : f)
-          star[v];
-      for (unsigned int c = 0; c < cells.size(); ++c)
-        for (const unsigned int v : cells[c])
+      // vertex that are not slit faces; the groups that hold cells above the
+      // plane and next to a slit face get a copy of the vertex, unless one
+      // group holds both sides. Returns each vertex below and its copy.
+      Copies
+      duplicate_slit_vertices(MeshArrays           &mesh,
+                              const std::set<Face> &slit,
+                              const std::string    &description)
+      {
+        std::map<unsigned int, std::vector<unsigned int>> star;
+        for (const Face &f : slit)
+          for (const unsigned int v : f)
+            star[v];
+        for (unsigned int c = 0; c < mesh.cells.size(); ++c)
+          for (const unsigned int v : mesh.cells[c])
+            {
+              const auto s = star.find(v);
+              if (s != star.end())
+                s->second.push_back(c);
+            }
+        const auto &cells = mesh.cells;
+        Copies      copies;
+        for (const auto &[v, around] : star)
           {
-            const auto s = star.find(v);
-            if (s != star.end())
-              s->second.push_back(c);
+            std::vector<unsigned int> parent(around.size());
+            std::iota(parent.begin(), parent.end(), 0u);
+            for (unsigned int i = 0; i < around.size(); ++i)
+              for (unsigned int j = i + 1; j < around.size(); ++j)
+                {
+                  // Shared vertices of the two cells (v among them).
+                  std::vector<unsigned int> shared;
+                  for (const unsigned int a : cells[around[i]])
+                    if (std::find(cells[around[j]].begin(),
+                                  cells[around[j]].end(),
+                                  a) != cells[around[j]].end())
+                      shared.push_back(a);
+                  if (shared.size() == 3 &&
+                      !slit.count(sorted_face(shared[0], shared[1], shared[2])))
+                    parent[find_root(parent, i)] = find_root(parent, j);
+                }
+            std::set<unsigned int> roots_above, roots_below;
+            for (unsigned int i = 0; i < around.size(); ++i)
+              (mesh.cell_above[around[i]] ? roots_above : roots_below)
+                .insert(find_root(parent, i));
+            bool joined = false;
+            for (const unsigned int r : roots_above)
+              joined |= roots_below.count(r) > 0;
+            if (joined)
+              continue; // the slit's inner edge: the lips join here
+            const unsigned int copy = mesh.vertices.size();
+            mesh.vertices.push_back(mesh.vertices[v]);
+            for (const unsigned int c : around)
+              if (mesh.cell_above[c])
+                std::replace(mesh.cells[c].begin(),
+                             mesh.cells[c].end(),
+                             v,
+                             copy);
+            copies.emplace_back(v, copy);
           }
-      copies.clear();
-      copy_normal.clear();
-      for (const auto &[v, around] : star)
-        {
-          std::vector<unsigned int> parent(around.size());
-          std::iota(parent.begin(), parent.end(), 0u);
-          for (unsigned int i = 0; i < around.size(); ++i)
-            for (unsigned int j = i + 1; j < around.size(); ++j)
-              {
-                // Shared vertices of the two cells (v among them).
-                std::vector<unsigned int> shared;
-                for (const unsigned int a : cells[around[i]])
-                  if (std::find(cells[around[j]].begin(),
-                                cells[around[j]].end(),
-                                a) != cells[around[j]].end())
-                    shared.push_back(a);
-                if (shared.size() == 3 &&
-                    !slit.count(sorted_face(shared[0], shared[1], shared[2])))
-                  parent[find_root(parent, i)] = find_root(parent, j);
-              }
-          // The groups that hold cells above the plane and next to a slit
-          // face get the copy, unless one group holds both sides.
-          std::set<unsigned int> roots_above, roots_below;
-          for (unsigned int i = 0; i < around.size(); ++i)
-            (cell_above[around[i]] ? roots_above : roots_below)
-              .insert(find_root(parent, i));
-          bool joined = false;
-          for (const unsigned int r : roots_above)
-            joined |= roots_below.count(r) > 0;
-          if (joined)
-            continue; // the slit's inner edge: the lips join here
-          const unsigned int copy = vertices.size();
-          vertices.push_back(vertices[v]);
-          for (const unsigned int c : around)
-            if (cell_above[c])
-              std::replace(cells[c].begin(), cells[c].end(), v, copy);
-          copies.emplace_back(v, copy);
-        }
-      if (copies.empty())
-        throw Error("Effects/separated lips: the slit in mesh " +
-                    scene.mesh_description +
-                    " does not separate any vertex (it has no opening).");
+        if (copies.empty())
+          throw Error("Effects/separated lips: the slit in mesh " +
+                      description +
+                      " does not separate any vertex (it has no opening).");
+        return copies;
+      }
 
       // The slit's normal at each pair: the mean of its faces' normals,
       // oriented to the upper side.
-      std::map<unsigned int, Tensor<1, 3>> mean_normal;
-      for (const Face &f : slit)
-        {
-          Tensor<1, 3> n = cross_product_3d(vertices[f[1]] - vertices[f[0]],
-                                            vertices[f[2]] - vertices[f[0]]);
-          if (n * normal < 0.)
-            n = -n;
-          for (const unsigned int v : f)
-            mean_normal[v] += n;
-        }
-      for (const auto &[below, above_copy] : copies)
-        copy_normal.push_back(mean_normal[below] / mean_normal[below].norm());
+      std::vector<Tensor<1, 3>>
+      normals_at_copies(const std::vector<Point<3>> &vertices,
+                        const std::set<Face>        &slit,
+                        const Copies                &copies,
+                        const Tensor<1, 3>          &normal)
+      {
+        std::map<unsigned int, Tensor<1, 3>> mean_normal;
+        for (const Face &f : slit)
+          {
+            Tensor<1, 3> n = cross_product_3d(vertices[f[1]] - vertices[f[0]],
+                                              vertices[f[2]] - vertices[f[0]]);
+            if (n * normal < 0.)
+              n = -n;
+            for (const unsigned int v : f)
+              mean_normal[v] += n;
+          }
+        std::vector<Tensor<1, 3>> copy_normal;
+        for (const auto &[below, above_copy] : copies)
+          copy_normal.push_back(mean_normal[below] / mean_normal[below].norm());
+        return copy_normal;
+      }
 
       // The cut mesh: the same cells (vertex order, materials) with the
       // copies; boundary ids carried over through each face's original
-      // vertices, the slit's both sides 252.
-      std::vector<unsigned int> original(vertices.size());
-      std::iota(original.begin(), original.end(), 0u);
-      for (const auto &[below, above_copy] : copies)
-        original[above_copy] = below;
-      std::vector<CellData<3>> cell_data(cells.size());
-      for (unsigned int c = 0; c < cells.size(); ++c)
-        {
-          cell_data[c].vertices.assign(cells[c].begin(), cells[c].end());
-          cell_data[c].material_id = materials[c];
-        }
-      scene.dof_handler.clear();
-      tria.clear();
-      tria.create_triangulation(vertices, cell_data, SubCellData());
-      for (const auto &cell : tria.active_cell_iterators())
-        for (const auto &face : cell->face_iterators())
-          if (face->at_boundary())
-            {
-              const Face key = sorted_face(original[face->vertex_index(0)],
-                                           original[face->vertex_index(1)],
-                                           original[face->vertex_index(2)]);
-              const auto b   = boundary_of.find(key);
-              face->set_boundary_id(slit.count(key)        ? slit_boundary_id :
-                                    b != boundary_of.end() ? b->second :
-                                                             0);
-            }
+      // vertices, the slit's both sides @p slit_boundary_id.
+      void
+      make_cut_mesh(const MeshArrays        &mesh,
+                    const std::set<Face>    &slit,
+                    const Copies            &copies,
+                    const types::boundary_id slit_boundary_id,
+                    Scene                   &scene)
+      {
+        std::vector<unsigned int> original(mesh.vertices.size());
+        std::iota(original.begin(), original.end(), 0u);
+        for (const auto &[below, above_copy] : copies)
+          original[above_copy] = below;
+        std::vector<CellData<3>> cell_data(mesh.cells.size());
+        for (unsigned int c = 0; c < mesh.cells.size(); ++c)
+          {
+            cell_data[c].vertices.assign(mesh.cells[c].begin(),
+                                         mesh.cells[c].end());
+            cell_data[c].material_id = mesh.materials[c];
+          }
+        Triangulation<3> &tria = scene.triangulation;
+        scene.dof_handler.clear();
+        tria.clear();
+        tria.create_triangulation(mesh.vertices, cell_data, SubCellData());
+        for (const auto &cell : tria.active_cell_iterators())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary())
+              {
+                const Face key = sorted_face(original[face->vertex_index(0)],
+                                             original[face->vertex_index(1)],
+                                             original[face->vertex_index(2)]);
+                const auto b   = mesh.boundary_of.find(key);
+                face->set_boundary_id(slit.count(key) ? slit_boundary_id :
+                                      b != mesh.boundary_of.end() ? b->second :
+                                                                    0);
+              }
+      }
+    } // namespace
+
+    std::string
+    SeparatedLips::prepare_mesh(Scene &scene) const
+    {
+      copies.clear();
+      copy_normal.clear();
+      const std::string &description = scene.mesh_description;
+      MeshArrays         mesh =
+        read_mesh(scene.triangulation, point, normal, region, slit_boundary_id);
+      join_cut_off_groups(mesh, description);
+      const std::set<Face> slit = find_slit(mesh, description);
+      copies      = duplicate_slit_vertices(mesh, slit, description);
+      copy_normal = normals_at_copies(mesh.vertices, slit, copies, normal);
+      make_cut_mesh(mesh, slit, copies, slit_boundary_id, scene);
       std::ostringstream line;
       line << "separated lips: the mesh is cut along " << slit.size()
            << " faces, " << copies.size() << " vertices duplicated";

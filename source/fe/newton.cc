@@ -173,6 +173,32 @@ namespace softface
     return true;
   }
 
+  LoadSteppedNewton::StepState::StepState(const unsigned int n)
+      : join_increment(n)
+      , forces(n)
+      , rhs(n)
+      , du(n)
+      , trial(n)
+      , trial_forces(n)
+  {}
+
+  double
+  LoadSteppedNewton::free_norm(const Vector<double> &v)
+  {
+    // What the holding constraints take up is not unbalanced.
+    if (constraints == nullptr)
+      return ConstrainedSystem::free_norm(is_join, v);
+    condensed = v;
+    constraints->condense(condensed);
+    return ConstrainedSystem::free_norm(is_join, condensed);
+  }
+
+  std::string
+  LoadSteppedNewton::refused(const std::string &what) const
+  {
+    return what + (where_refused ? where_refused() : std::string());
+  }
+
   LoadSteppedNewton::StepResult
   LoadSteppedNewton::step(Vector<double>       &u,
                           const Vector<double> &target,
@@ -183,52 +209,24 @@ namespace softface
   {
     const unsigned int n = u.size();
     StepResult         result;
-    // What the holding constraints take up is not unbalanced.
-    Vector<double> condensed;
-    const auto     free_norm = [&](const Vector<double> &v) {
-      if (constraints == nullptr)
-        return ConstrainedSystem::free_norm(is_join, v);
-      condensed = v;
-      constraints->condense(condensed);
-      return ConstrainedSystem::free_norm(is_join, condensed);
-    };
-    Vector<double> closing;
-
+    StepState          s(n);
     // The first iteration carries the join DoFs to the step's target.
-    Vector<double> join_increment(n);
     for (unsigned int i = 0; i < n; ++i)
       if (is_join[i])
-        join_increment[i] = target[i] - u[i];
+        s.join_increment[i] = target[i] - u[i];
 
-    Vector<double> forces(n), rhs(n), du(n), trial(n), trial_forces(n);
-    // The accepted line-search point was evaluated with its tangent, so the
-    // next iteration starts from it without assembling again.
-    bool evaluated = false;
-    // Whether an iteration solved with an indefinite tangent (LU).
-    bool indefinite = false;
     // A start other than the tangent predictor: taken if the
     // discretisation accepts it, and Newton corrects from there.
     if (guess != nullptr)
       {
-        bool valid;
-        {
-          TimerOutput::Scope scope(timer, "assembly");
-          valid = unbalanced_forces(*guess, load, forces, &tangent);
-        }
-        if (valid)
+        if (start_from_guess(*guess, load, timer, u, s))
           {
-            u              = *guess;
-            evaluated      = true;
-            join_increment = 0.;
-            // The step's scale: what the start leaves unbalanced.
-            reference_force = std::max(reference_force, free_norm(forces));
             if (prm.corrector == Parameters::Corrector::kinsol)
               return kinsol_step(u, load, timer, result, false);
           }
         else if (prm.predictor == Parameters::Predictor::join_only)
           {
-            result.reason = "the predictor inverts a tetrahedron" +
-                            (where_refused ? where_refused() : std::string());
+            result.reason = refused("the predictor inverts a tetrahedron");
             return result;
           }
         else
@@ -239,165 +237,228 @@ namespace softface
         Timer              iteration_timer;
         const unsigned int linear_before = report.linear_iterations;
         // The tangent predictor: the iteration that moves the join DoFs.
-        const bool first = (it == 0) && !evaluated;
+        const bool first = (it == 0) && !s.evaluated;
         {
           TimerOutput::Scope scope(timer, "assembly");
-          if (!evaluated && !unbalanced_forces(u, load, forces, &tangent))
+          if (!s.evaluated && !unbalanced_forces(u, load, s.forces, &tangent))
             {
-              result.reason = "a tetrahedron is inverted" +
-                              (where_refused ? where_refused() : "");
+              result.reason = refused("a tetrahedron is inverted");
               return result;
             }
         }
-        const double residual = free_norm(forces);
+        const double residual = free_norm(s.forces);
         result.residual       = residual / std::max(reference_force, 1e-300);
         if (it > 0 && residual <= prm.residual_tolerance * reference_force)
-          {
-            // An iteration crossed an indefinite tangent: keep the
-            // equilibrium only if it is stable.
-            if ((indefinite || prm.check_stability) && !prm.accept_unstable &&
-                !tangent_positive_definite(u, load, timer))
-              {
-                result.reason   = "the equilibrium reached is unstable (its "
-                                  "tangent is not positive definite)";
-                result.unstable = true;
-                return result;
-              }
-            result.converged = true;
-            return result;
-          }
+          return converged_if_stable(u, load, timer, s.indefinite, result);
         if (it == prm.max_iterations)
           break;
 
-        {
-          TimerOutput::Scope scope(timer, "assembly");
-          if (distributed != nullptr)
-            distributed->right_hand_side_and_eliminate(join_increment,
-                                                       forces,
-                                                       rhs);
-          else
-            {
-              ConstrainedSystem::right_hand_side(
-                tangent, is_join, join_increment, &forces, rhs);
-              ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
-            }
-          if (constraints != nullptr)
-            {
-              // du = closing + C x: C^T K C x = C^T (rhs - K closing).
-              constraints->closing_increment(u,
-                                             *bone_now(),
-                                             bone_factor(load),
-                                             closing);
-              Vector<double> K_closing(n);
-              tangent.vmult(K_closing, closing);
-              rhs -= K_closing;
-              constraints->condense(tangent);
-              constraints->condense(rhs);
-            }
-        }
+        assemble_newton_system(u, load, timer, s);
         if (first)
           {
-            reference_force = std::max(reference_force, free_norm(rhs));
+            reference_force = std::max(reference_force, free_norm(s.rhs));
             if (reference_force == 0.)
               {
                 // Nothing is unbalanced (e.g. every vertex is a join point):
                 // the join DoFs still move.
-                u += join_increment;
+                u += s.join_increment;
                 result.converged = true;
                 return result;
               }
           }
-
-        LinearSolver::Result solve;
-        {
-          TimerOutput::Scope scope(timer, "linear solves");
-          solve = solve_tangent(rhs, du);
-          indefinite |= solve.converged && solve.not_positive_definite;
-        }
-        if (solve.not_positive_definite && !solve.converged)
-          result.reason = "the tangent is not positive definite";
-        else if (solve.negative_curvature && !solve.converged)
-          result.reason = "the tangent is not positive definite (CG found "
-                          "negative curvature after " +
-                          std::to_string(solve.iterations) + " iterations)";
-        else if (!solve.converged)
-          result.reason = linear_solver.parameters().method +
-                          " did not converge (" +
-                          std::to_string(solve.iterations) + " iterations)";
-        if (!solve.converged)
+        if (!solve_newton_system(timer, s, result))
           return result;
         ++result.iterations;
-        if (constraints != nullptr)
-          {
-            constraints->lines().distribute(du);
-            du += closing;
-          }
-        for (unsigned int i = 0; i < n; ++i)
-          if (is_join[i])
-            du[i] = join_increment[i];
 
-        // Backtracking on the residual norm. The predictor moves the join
-        // DoFs whole; if its state is refused, its free part is halved
-        // (damped) until it is not: the join points' motion is the load
-        // step, the free points' linear guess may overshoot (a rotation's
-        // linearisation stretches), and Newton corrects either.
-        bool accepted = false;
-        for (double alpha = 1.; alpha > 1. / 64 && !accepted; alpha /= 2)
+        if (!line_search(u, load, first, residual, timer, s))
           {
-            trial = u;
-            trial.add(alpha, du);
-            if (first)
-              for (unsigned int i = 0; i < n; ++i)
-                if (is_join[i])
-                  trial[i] = u[i] + du[i];
-            bool valid;
-            {
-              TimerOutput::Scope scope(timer, "assembly");
-              valid = unbalanced_forces(trial, load, trial_forces, &tangent);
-            }
-            if (valid && (first || free_norm(trial_forces) <=
-                                     (1. - 1e-4 * alpha) * residual))
-              {
-                accepted = true;
-                if (first && alpha < 1.)
-                  ++report.damped_predictors;
-              }
-          }
-        if (!accepted)
-          {
-            result.reason =
-              first ? "the predictor inverts a tetrahedron" +
-                        (where_refused ? where_refused() : std::string()) :
-                      "the line search found no descent";
+            result.reason = first ?
+                              refused("the predictor inverts a tetrahedron") :
+                              "the line search found no descent";
             return result;
           }
-        u.swap(trial);
-        forces.swap(trial_forces);
-        evaluated      = true;
-        join_increment = 0.;
+        u.swap(s.trial);
+        s.forces.swap(s.trial_forces);
+        s.evaluated      = true;
+        s.join_increment = 0.;
         if (prm.corrector == Parameters::Corrector::kinsol)
-          return kinsol_step(u, load, timer, result, indefinite);
-
-        // Large (quadratic reference) solves take minutes: say where they
-        // are once an iteration is slow enough for anyone to wonder.
-        if (progress != nullptr && iteration_timer.wall_time() > 5.)
-          {
-            std::ostringstream line;
-            line << "        Newton iteration " << result.iterations << ": ";
-            if (first)
-              line << "predictor (join points moved), ";
-            else
-              line << "relative residual before " << std::setprecision(2)
-                   << result.residual << ", ";
-            line << report.linear_iterations - linear_before
-                 << " linear iterations, " << std::fixed << std::setprecision(1)
-                 << iteration_timer.wall_time() << " s\n";
-            *progress << line.str() << std::flush;
-          }
+          return kinsol_step(u, load, timer, result, s.indefinite);
+        report_slow_iteration(
+          progress, iteration_timer, first, linear_before, result);
       }
     result.reason =
       "no convergence in " + std::to_string(prm.max_iterations) + " iterations";
     return result;
+  }
+
+  bool
+  LoadSteppedNewton::start_from_guess(const Vector<double> &guess,
+                                      const double          load,
+                                      TimerOutput          &timer,
+                                      Vector<double>       &u,
+                                      StepState            &s)
+  {
+    bool valid;
+    {
+      TimerOutput::Scope scope(timer, "assembly");
+      valid = unbalanced_forces(guess, load, s.forces, &tangent);
+    }
+    if (!valid)
+      return false;
+    u                = guess;
+    s.evaluated      = true;
+    s.join_increment = 0.;
+    // The step's scale: what the start leaves unbalanced.
+    reference_force = std::max(reference_force, free_norm(s.forces));
+    return true;
+  }
+
+  LoadSteppedNewton::StepResult
+  LoadSteppedNewton::converged_if_stable(const Vector<double> &u,
+                                         const double          load,
+                                         TimerOutput          &timer,
+                                         const bool            indefinite,
+                                         StepResult            result)
+  {
+    // An iteration crossed an indefinite tangent: keep the equilibrium
+    // only if it is stable.
+    if ((indefinite || prm.check_stability) && !prm.accept_unstable &&
+        !tangent_positive_definite(u, load, timer))
+      {
+        result.reason   = "the equilibrium reached is unstable (its "
+                          "tangent is not positive definite)";
+        result.unstable = true;
+        return result;
+      }
+    result.converged = true;
+    return result;
+  }
+
+  void
+  LoadSteppedNewton::assemble_newton_system(const Vector<double> &u,
+                                            const double          load,
+                                            TimerOutput          &timer,
+                                            StepState            &s)
+  {
+    TimerOutput::Scope scope(timer, "assembly");
+    if (distributed != nullptr)
+      distributed->right_hand_side_and_eliminate(s.join_increment,
+                                                 s.forces,
+                                                 s.rhs);
+    else
+      {
+        ConstrainedSystem::right_hand_side(
+          tangent, is_join, s.join_increment, &s.forces, s.rhs);
+        ConstrainedSystem::eliminate_join_dofs(is_join, tangent);
+      }
+    if (constraints != nullptr)
+      {
+        // du = closing + C x: C^T K C x = C^T (rhs - K closing).
+        constraints->closing_increment(u,
+                                       *bone_now(),
+                                       bone_factor(load),
+                                       s.closing);
+        Vector<double> K_closing(u.size());
+        tangent.vmult(K_closing, s.closing);
+        s.rhs -= K_closing;
+        constraints->condense(tangent);
+        constraints->condense(s.rhs);
+      }
+  }
+
+  bool
+  LoadSteppedNewton::solve_newton_system(TimerOutput &timer,
+                                         StepState   &s,
+                                         StepResult  &result)
+  {
+    LinearSolver::Result solve;
+    {
+      TimerOutput::Scope scope(timer, "linear solves");
+      solve = solve_tangent(s.rhs, s.du);
+      s.indefinite |= solve.converged && solve.not_positive_definite;
+    }
+    if (solve.not_positive_definite && !solve.converged)
+      result.reason = "the tangent is not positive definite";
+    else if (solve.negative_curvature && !solve.converged)
+      result.reason = "the tangent is not positive definite (CG found "
+                      "negative curvature after " +
+                      std::to_string(solve.iterations) + " iterations)";
+    else if (!solve.converged)
+      result.reason = linear_solver.parameters().method +
+                      " did not converge (" + std::to_string(solve.iterations) +
+                      " iterations)";
+    if (!solve.converged)
+      return false;
+    if (constraints != nullptr)
+      {
+        constraints->lines().distribute(s.du);
+        s.du += s.closing;
+      }
+    for (unsigned int i = 0; i < s.du.size(); ++i)
+      if (is_join[i])
+        s.du[i] = s.join_increment[i];
+    return true;
+  }
+
+  bool
+  LoadSteppedNewton::line_search(const Vector<double> &u,
+                                 const double          load,
+                                 const bool            first,
+                                 const double          residual,
+                                 TimerOutput          &timer,
+                                 StepState            &s)
+  {
+    // Backtracking on the residual norm. The predictor moves the join DoFs
+    // whole; if its state is refused, its free part is halved (damped)
+    // until it is not: the join points' motion is the load step, the free
+    // points' linear guess may overshoot (a rotation's linearisation
+    // stretches), and Newton corrects either.
+    for (double alpha = 1.; alpha > 1. / 64; alpha /= 2)
+      {
+        s.trial = u;
+        s.trial.add(alpha, s.du);
+        if (first)
+          for (unsigned int i = 0; i < u.size(); ++i)
+            if (is_join[i])
+              s.trial[i] = u[i] + s.du[i];
+        bool valid;
+        {
+          TimerOutput::Scope scope(timer, "assembly");
+          valid = unbalanced_forces(s.trial, load, s.trial_forces, &tangent);
+        }
+        if (valid && (first || free_norm(s.trial_forces) <=
+                                 (1. - 1e-4 * alpha) * residual))
+          {
+            if (first && alpha < 1.)
+              ++report.damped_predictors;
+            return true;
+          }
+      }
+    return false;
+  }
+
+  void
+  LoadSteppedNewton::report_slow_iteration(std::ostream      *progress,
+                                           const Timer       &iteration_timer,
+                                           const bool         first,
+                                           const unsigned int linear_before,
+                                           const StepResult  &result) const
+  {
+    // Large (quadratic reference) solves take minutes: say where they are
+    // once an iteration is slow enough for anyone to wonder.
+    if (progress == nullptr || iteration_timer.wall_time() <= 5.)
+      return;
+    std::ostringstream line;
+    line << "        Newton iteration " << result.iterations << ": ";
+    if (first)
+      line << "predictor (join points moved), ";
+    else
+      line << "relative residual before " << std::setprecision(2)
+           << result.residual << ", ";
+    line << report.linear_iterations - linear_before << " linear iterations, "
+         << std::fixed << std::setprecision(1) << iteration_timer.wall_time()
+         << " s\n";
+    *progress << line.str() << std::flush;
   }
 
   LoadSteppedNewton::StepResult
@@ -617,17 +678,9 @@ namespace softface
     distributed = tangent_in;
   }
 
-  LoadSteppedNewton::Report
-  LoadSteppedNewton::solve(const Vector<double> &join_motion,
-                           Vector<double>       &u,
-                           TimerOutput          &timer,
-                           std::ostream         *progress,
-                           const std::string    &description,
-                           const std::string    &hint,
-                           const Vector<double> *external_forces)
+  void
+  LoadSteppedNewton::refuse_unsupported(const std::string &description) const
   {
-    external             = external_forces;
-    const unsigned int n = join_motion.size();
     if (prm.corrector == Parameters::Corrector::kinsol &&
         constraints != nullptr)
       throw Error(description +
@@ -641,13 +694,88 @@ namespace softface
                    constraints == nullptr && !prm.indefinite_lu &&
                    !prm.check_stability),
                 ExcMessage("Not on a distributed tangent."));
-    report          = Report();
-    reference_force = 0.;
+  }
+
+  const Vector<double> *
+  LoadSteppedNewton::predicted_start(const Vector<double> &u,
+                                     const Vector<double> &target,
+                                     const double          load,
+                                     const double          next,
+                                     const bool            from_guess,
+                                     Vector<double>       &guess) const
+  {
+    const unsigned int n = u.size();
+    if (from_guess)
+      guess = *initial_guess;
+    else if (prm.predictor == Parameters::Predictor::join_only)
+      guess = u;
+    else if (prm.predictor == Parameters::Predictor::secant &&
+             previous.size() == n)
+      {
+        guess = u;
+        guess.sadd(1. + (next - load) / (load - previous_load),
+                   -(next - load) / (load - previous_load),
+                   previous);
+      }
+    else
+      return nullptr;
+    for (unsigned int i = 0; i < n; ++i)
+      if (is_join[i])
+        guess[i] = target[i];
+    return &guess;
+  }
+
+  void
+  LoadSteppedNewton::settle_active_set(
+    const Vector<double>              &u,
+    const double                       load,
+    const std::function<StepResult()> &step_again,
+    StepResult                        &result)
+  {
+    // Unilateral constraints: release those that pull, hold those passed
+    // through, and solve the step again until none changes.
+    for (unsigned int round = 1; result.converged && constraints != nullptr &&
+                                 constraints->has_unilateral();
+         ++round)
+      {
+        Vector<double> forces(u.size());
+        unbalanced_forces(u, load, forces, nullptr);
+        if (constraints->update_active_set(
+              u, *bone_now(), forces, bone_factor(load)) == 0)
+          return;
+        if (round == max_rounds)
+          {
+            result.converged = false;
+            result.reason    = "the contact's active set still changed "
+                               "after " +
+                            std::to_string(max_rounds) +
+                            " solves ('Maximum active-set iterations')";
+            return;
+          }
+        const unsigned int before = result.iterations;
+        result                    = step_again();
+        result.iterations += before;
+      }
+  }
+
+  LoadSteppedNewton::Report
+  LoadSteppedNewton::solve(const Vector<double> &join_motion,
+                           Vector<double>       &u,
+                           TimerOutput          &timer,
+                           std::ostream         *progress,
+                           const std::string    &description,
+                           const std::string    &hint,
+                           const Vector<double> *external_forces)
+  {
+    refuse_unsupported(description);
+    external             = external_forces;
+    const unsigned int n = join_motion.size();
+    report               = Report();
+    reference_force      = 0.;
     u.reinit(n);
     Vector<double> converged = u, target(n);
-    // The converged state before the last one, for the secant predictor.
-    Vector<double> previous;
-    double         previous_load = 0.;
+    previous.reinit(0);
+    previous_load = 0.;
     Vector<double> guess;
     double         load = 0., increment = prm.initial_increment;
     while (load < 1.)
@@ -657,60 +785,18 @@ namespace softface
           path(next, target, bone_on_path);
         else
           target.equ(next, join_motion);
-        const Vector<double> *start = nullptr;
         // A first step to the full load starts from the guess, if any.
         const bool from_guess = initial_guess != nullptr &&
                                 initial_guess->size() == n && load == 0. &&
                                 next == 1. && report.cutbacks == 0;
-        if (from_guess)
-          {
-            guess = *initial_guess;
-            start = &guess;
-          }
-        else if (prm.predictor == Parameters::Predictor::join_only)
-          {
-            guess = u;
-            start = &guess;
-          }
-        else if (prm.predictor == Parameters::Predictor::secant &&
-                 previous.size() == n)
-          {
-            guess = u;
-            guess.sadd(1. + (next - load) / (load - previous_load),
-                       -(next - load) / (load - previous_load),
-                       previous);
-            start = &guess;
-          }
-        if (start != nullptr)
-          for (unsigned int i = 0; i < n; ++i)
-            if (is_join[i])
-              guess[i] = target[i];
+        const Vector<double> *start =
+          predicted_start(u, target, load, next, from_guess, guess);
         StepResult result = step(u, target, next, timer, progress, start);
-        // Unilateral constraints: release those that pull, hold those
-        // passed through, and solve the step again until none changes.
-        for (unsigned int round = 1;
-             result.converged && constraints != nullptr &&
-             constraints->has_unilateral();
-             ++round)
-          {
-            Vector<double> forces(n);
-            unbalanced_forces(u, next, forces, nullptr);
-            if (constraints->update_active_set(
-                  u, *bone_now(), forces, bone_factor(next)) == 0)
-              break;
-            if (round == max_rounds)
-              {
-                result.converged = false;
-                result.reason    = "the contact's active set still changed "
-                                   "after " +
-                                std::to_string(max_rounds) +
-                                " solves ('Maximum active-set iterations')";
-                break;
-              }
-            const unsigned int before = result.iterations;
-            result                    = step(u, target, next, timer, progress);
-            result.iterations += before;
-          }
+        settle_active_set(
+          u,
+          next,
+          [&]() { return step(u, target, next, timer, progress); },
+          result);
         if (result.converged)
           {
             report.started_from_guess |= from_guess;

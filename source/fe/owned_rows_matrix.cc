@@ -1,5 +1,5 @@
 // A Trilinos matrix of an MPI rank's own rows, filled by the cells at them
-// (issue 20). See fe/owned_rows_matrix.h.
+// See fe/owned_rows_matrix.h.
 
 #include <deal.II/lac/exceptions.h>
 #include <deal.II/lac/trilinos_index_access.h>
@@ -60,11 +60,19 @@ namespace softface
   }
 
   void
+  OwnedRowsMatrix::check_on_every_rank(const bool ok) const
+  {
+    // An internal error on one rank ends every rank: a rank left alone in
+    // the graph's collective FillComplete would wait forever.
+    AssertThrow(Utilities::MPI::min(ok ? 1 : 0, communicator) == 1,
+                ExcInternalError());
+  }
+
+  void
   OwnedRowsMatrix::set_cells(
     const std::vector<types::global_dof_index> &cell_dofs,
     const unsigned int                          n)
   {
-    using GlobalIndex = TrilinosWrappers::types::int_type;
     AssertThrow(n > 0 && n <= 255, ExcNotImplemented());
     dofs_per_cell = n;
 
@@ -93,24 +101,47 @@ namespace softface
       set_point_block_cells(cell_dofs, relevant_global, row_relevant);
     if (point_blocks)
       return;
-    const std::size_t  n_cells       = cell_dofs.size() / n;
+    std::vector<unsigned int> cells_of_row_start, cells_of_row;
+    find_cell_rows(cell_dofs, cells_of_row_start, cells_of_row);
+    make_graph_of_cells(relevant_global,
+                        row_relevant,
+                        cells_of_row_start,
+                        cells_of_row);
+    sort_cell_columns(relevant_global, row_relevant);
+
+    // Small cells: the places found once.
+    cell_entry.clear();
+    if (n <= max_dofs_with_positions)
+      {
+        const Epetra_CrsMatrix &matrix  = trilinos_matrix.trilinos_matrix();
+        const std::size_t       n_cells = cell_row.size() / n;
+        for (int r = 0; r < matrix.NumMyRows(); ++r)
+          AssertThrow(matrix.NumMyEntries(r) < no_entry, ExcNotImplemented());
+        cell_entry.assign(n * cell_row.size(), no_entry);
+        for (std::size_t c = 0; c < n_cells; ++c)
+          for (unsigned int i = 0; i < n; ++i)
+            if (cell_row[n * c + i] >= 0)
+              walk_row(c, i, [&](const int k, const unsigned int q) {
+                cell_entry[n * (n * c + i) + q] = k;
+              });
+        release(cell_column);
+        release(cell_order);
+      }
+  }
+
+  void
+  OwnedRowsMatrix::find_cell_rows(
+    const std::vector<types::global_dof_index> &cell_dofs,
+    std::vector<unsigned int>                  &cells_of_row_start,
+    std::vector<unsigned int>                  &cells_of_row)
+  {
+    const unsigned int n             = dofs_per_cell;
     const unsigned int n_rows        = owned.n_elements();
-    const unsigned int n_relevant    = relevant.n_elements();
-    const std::size_t  n_cell_values = std::size_t(n) * n_cells;
-
-    // An internal error on one rank ends every rank: a rank left alone in
-    // the graph's collective FillComplete would wait forever.
-    bool       ok                  = true;
-    const auto check_on_every_rank = [&]() {
-      AssertThrow(Utilities::MPI::min(ok ? 1 : 0, communicator) == 1,
-                  ExcInternalError());
-    };
-
-    // Each cell's DoFs as this rank's rows and as locally relevant DoFs;
-    // the cells at each row.
+    const std::size_t  n_cell_values = cell_dofs.size();
+    bool               ok            = true;
     cell_row.assign(n_cell_values, -1);
     cell_column.resize(n_cell_values);
-    std::vector<unsigned int> cells_of_row_start(n_rows + 1, 0);
+    cells_of_row_start.assign(n_rows + 1, 0);
     for (std::size_t k = 0; k < n_cell_values; ++k)
       {
         const auto dof = cell_dofs[k];
@@ -124,22 +155,30 @@ namespace softface
           }
         cell_column[k] = relevant.index_within_set(dof);
       }
-    check_on_every_rank();
+    check_on_every_rank(ok);
     for (unsigned int r = 0; r < n_rows; ++r)
       cells_of_row_start[r + 1] += cells_of_row_start[r];
-    std::vector<unsigned int> cells_of_row(cells_of_row_start[n_rows]);
-    {
-      auto next = cells_of_row_start;
-      for (std::size_t k = 0; k < n_cell_values; ++k)
-        if (cell_row[k] >= 0)
-          cells_of_row[next[cell_row[k]]++] = k / n;
-    }
+    cells_of_row.resize(cells_of_row_start[n_rows]);
+    auto next = cells_of_row_start;
+    for (std::size_t k = 0; k < n_cell_values; ++k)
+      if (cell_row[k] >= 0)
+        cells_of_row[next[cell_row[k]]++] = k / n;
+  }
 
+  void
+  OwnedRowsMatrix::make_graph_of_cells(
+    const std::vector<GlobalIndex>  &relevant_global,
+    const std::vector<unsigned int> &row_relevant,
+    std::vector<unsigned int>       &cells_of_row_start,
+    std::vector<unsigned int>       &cells_of_row)
+  {
+    const unsigned int n      = dofs_per_cell;
+    const unsigned int n_rows = owned.n_elements();
     // A row's columns are the DoFs of its cells, once each (a mark per
     // relevant DoF); found twice: their number sizes the graph's rows, then
     // they enter it, row by row.
     const bool                drop = join_couplings == JoinCouplings::dropped;
-    std::vector<unsigned int> mark(n_relevant);
+    std::vector<unsigned int> mark(relevant.n_elements());
     std::vector<GlobalIndex>  columns;
     const auto                find_columns = [&](const unsigned int r) {
       columns.clear();
@@ -171,6 +210,7 @@ namespace softface
     const Epetra_Map row_map = owned.make_trilinos_map(communicator, false);
     Epetra_CrsGraph  graph(Copy, row_map, row_length.data(), true);
     std::fill(mark.begin(), mark.end(), numbers::invalid_unsigned_int);
+    bool ok = true;
     for (unsigned int r = 0; r < n_rows && ok; ++r)
       {
         find_columns(r);
@@ -178,14 +218,25 @@ namespace softface
                                        columns.size(),
                                        columns.data()) == 0;
       }
-    check_on_every_rank();
+    check_on_every_rank(ok);
     release(cells_of_row);
     release(cells_of_row_start);
     release(mark);
     release(row_length);
     make_matrix(graph, row_map, trilinos_matrix);
     zero();
+  }
 
+  void
+  OwnedRowsMatrix::sort_cell_columns(
+    const std::vector<GlobalIndex>  &relevant_global,
+    const std::vector<unsigned int> &row_relevant)
+  {
+    const unsigned int      n          = dofs_per_cell;
+    const unsigned int      n_rows     = owned.n_elements();
+    const unsigned int      n_relevant = relevant.n_elements();
+    const std::size_t       n_cells    = cell_row.size() / n;
+    const bool              drop   = join_couplings == JoinCouplings::dropped;
     const Epetra_CrsMatrix &matrix = trilinos_matrix.trilinos_matrix();
     diagonal_column.resize(n_rows);
     for (unsigned int r = 0; r < n_rows; ++r)
@@ -201,8 +252,9 @@ namespace softface
     std::vector<int> matrix_column(n_relevant);
     for (unsigned int k = 0; k < n_relevant; ++k)
       matrix_column[k] = matrix.LCID(relevant_global[k]);
-    cell_order.resize(n_cell_values);
+    cell_order.resize(cell_row.size());
     std::vector<std::pair<int, std::uint8_t>> sorted(n);
+    bool                                      ok = true;
     for (std::size_t c = 0; c < n_cells; ++c)
       {
         for (unsigned int q = 0; q < n; ++q)
@@ -221,33 +273,63 @@ namespace softface
             cell_order[n * c + s]  = sorted[s].second;
           }
       }
-    check_on_every_rank();
-
-    // Small cells: the places found once.
-    cell_entry.clear();
-    if (n <= max_dofs_with_positions)
-      {
-        for (int r = 0; r < matrix.NumMyRows(); ++r)
-          AssertThrow(matrix.NumMyEntries(r) < no_entry, ExcNotImplemented());
-        cell_entry.assign(n * n_cell_values, no_entry);
-        for (std::size_t c = 0; c < n_cells; ++c)
-          for (unsigned int i = 0; i < n; ++i)
-            if (cell_row[n * c + i] >= 0)
-              walk_row(c, i, [&](const int k, const unsigned int q) {
-                cell_entry[n * (n * c + i) + q] = k;
-              });
-        release(cell_column);
-        release(cell_order);
-      }
+    check_on_every_rank(ok);
   }
 
   bool
   OwnedRowsMatrix::set_point_block_cells(
-    const std::vector<types::global_dof_index>           &cell_dofs,
-    const std::vector<TrilinosWrappers::types::int_type> &relevant_global,
-    const std::vector<unsigned int>                      &row_relevant)
+    const std::vector<types::global_dof_index> &cell_dofs,
+    const std::vector<GlobalIndex>             &relevant_global,
+    const std::vector<unsigned int>            &row_relevant)
   {
-    using GlobalIndex               = TrilinosWrappers::types::int_type;
+    PointBlockCells cells;
+    if (!find_point_blocks(cell_dofs, cells))
+      return false;
+
+    const unsigned int        n_rows = owned.n_elements();
+    std::vector<int>          row_length, column_of;
+    std::vector<unsigned int> block_order;
+    std::vector<GlobalIndex>  column_global;
+    {
+      std::vector<char> is_column;
+      count_point_block_rows(cells, row_relevant, row_length, is_column);
+      order_point_block_columns(
+        relevant_global, is_column, column_of, block_order, column_global);
+    }
+    const Epetra_Map row_map = owned.make_trilinos_map(communicator, false);
+    const Epetra_Map column_map(
+      -1, column_global.size(), column_global.data(), 0, row_map.Comm());
+    release(column_global);
+    Epetra_CrsGraph graph(Copy, row_map, column_map, row_length.data(), true);
+    insert_point_block_rows(cells, row_relevant, column_of, block_order, graph);
+    release(cells.cells_of_block);
+    release(cells.cells_of_block_start);
+    release(cells.cell_block);
+    make_matrix(graph, row_map, trilinos_matrix);
+    zero();
+    for (unsigned int r = 0; r < n_rows; ++r)
+      AssertThrow(trilinos_matrix.trilinos_matrix().NumMyEntries(r) ==
+                      row_length[r] &&
+                    row_length[r] < no_entry,
+                  ExcInternalError());
+
+    diagonal_column.resize(n_rows);
+    for (unsigned int r = 0; r < n_rows; ++r)
+      diagonal_column[r] = column_of[row_relevant[r]];
+    column_is_join.assign(column_map.NumMyElements(), 0);
+    for (unsigned int k = 0; k < relevant.n_elements(); ++k)
+      if (column_of[k] >= 0)
+        column_is_join[column_of[k]] = relevant_is_join[k];
+    release(cell_column);
+    release(cell_order);
+    return true;
+  }
+
+  bool
+  OwnedRowsMatrix::find_point_blocks(
+    const std::vector<types::global_dof_index> &cell_dofs,
+    PointBlockCells                            &cells)
+  {
     constexpr unsigned int invalid  = numbers::invalid_unsigned_int;
     const auto             no_index = numbers::invalid_dof_index;
     const std::size_t      n_cells  = cell_dofs.size() / 12;
@@ -256,7 +338,8 @@ namespace softface
     // 3k, 3k+1, 3k+2 of relevant) and among the owned rows (or invalid).
     // Any cell that is not such, or has no owned point (given by mistake:
     // the general way refuses it), sends every rank the general way.
-    std::vector<unsigned int> cell_block(4 * n_cells);
+    std::vector<unsigned int> &cell_block = cells.cell_block;
+    cell_block.resize(4 * n_cells);
     std::vector<unsigned int> cell_row_block(4 * n_cells);
     bool                      blocks = relevant.n_elements() % 3 == 0 &&
                   owned.n_elements() % 3 == 0 &&
@@ -283,63 +366,66 @@ namespace softface
     if (Utilities::MPI::min(blocks ? 1 : 0, communicator) == 0)
       return false;
 
-    const unsigned int n_rows       = owned.n_elements();
-    const unsigned int n_row_blocks = n_rows / 3;
-    const unsigned int n_blocks     = relevant.n_elements() / 3;
-    const bool         drop         = join_couplings == JoinCouplings::dropped;
+    // The owned rows of each cell, and the cells at each owned point.
+    const unsigned int n_row_blocks = owned.n_elements() / 3;
     cell_row.assign(12 * n_cells, -1);
-    std::vector<unsigned int> cells_of_block_start(n_row_blocks + 1, 0);
+    std::vector<unsigned int> &start = cells.cells_of_block_start;
+    start.assign(n_row_blocks + 1, 0);
     for (std::size_t v = 0; v < 4 * n_cells; ++v)
       if (cell_row_block[v] != invalid)
         {
-          ++cells_of_block_start[cell_row_block[v] + 1];
+          ++start[cell_row_block[v] + 1];
           for (unsigned int i = 0; i < 3; ++i)
             cell_row[3 * v + i] = 3 * cell_row_block[v] + i;
         }
     for (unsigned int b = 0; b < n_row_blocks; ++b)
-      cells_of_block_start[b + 1] += cells_of_block_start[b];
-    // The cells at each owned point, as (cell, its vertex there).
-    std::vector<std::uint64_t> cells_of_block(cells_of_block_start.back());
-    {
-      auto next = cells_of_block_start;
-      for (std::size_t v = 0; v < 4 * n_cells; ++v)
-        if (cell_row_block[v] != invalid)
-          cells_of_block[next[cell_row_block[v]]++] = v;
-    }
-    release(cell_row_block);
+      start[b + 1] += start[b];
+    cells.cells_of_block.resize(start.back());
+    auto next = start;
+    for (std::size_t v = 0; v < 4 * n_cells; ++v)
+      if (cell_row_block[v] != invalid)
+        cells.cells_of_block[next[cell_row_block[v]]++] = v;
+    return true;
+  }
 
-    const auto dropped_row = [&](const unsigned int r) {
-      return drop && row_is_join[r];
-    };
-    const auto dropped_column = [&](const unsigned int k) {
-      return drop && bool(relevant_is_join[k]);
-    };
+  void
+  OwnedRowsMatrix::find_neighbours(const PointBlockCells     &cells,
+                                   const unsigned int         b,
+                                   std::vector<unsigned int> &mark,
+                                   std::vector<unsigned int> &neighbours)
+  {
+    neighbours.clear();
+    for (unsigned int c = cells.cells_of_block_start[b];
+         c < cells.cells_of_block_start[b + 1];
+         ++c)
+      for (unsigned int a = 0; a < 4; ++a)
+        {
+          const unsigned int k =
+            cells.cell_block[cells.cells_of_block[c] / 4 * 4 + a];
+          if (mark[k] != b)
+            {
+              mark[k] = b;
+              neighbours.push_back(k);
+            }
+        }
+  }
 
-    // The points of owned point b's cells, once each (b among them).
-    std::vector<unsigned int> mark(n_blocks, invalid);
+  void
+  OwnedRowsMatrix::count_point_block_rows(
+    const PointBlockCells           &cells,
+    const std::vector<unsigned int> &row_relevant,
+    std::vector<int>                &row_length,
+    std::vector<char>               &is_column) const
+  {
+    const unsigned int        n_rows   = owned.n_elements();
+    const unsigned int        n_blocks = relevant.n_elements() / 3;
+    std::vector<unsigned int> mark(n_blocks, numbers::invalid_unsigned_int);
     std::vector<unsigned int> neighbours;
-    const auto                find_neighbours = [&](const unsigned int b) {
-      neighbours.clear();
-      for (unsigned int c = cells_of_block_start[b];
-           c < cells_of_block_start[b + 1];
-           ++c)
-        for (unsigned int a = 0; a < 4; ++a)
-          {
-            const unsigned int k = cell_block[cells_of_block[c] / 4 * 4 + a];
-            if (mark[k] != b)
-              {
-                mark[k] = b;
-                neighbours.push_back(k);
-              }
-          }
-    };
-
-    // First pass: each row's length, and which relevant DoFs are columns.
-    std::vector<char> is_column(3 * n_blocks, 0);
-    std::vector<int>  row_length(n_rows, 0);
-    for (unsigned int b = 0; b < n_row_blocks; ++b)
+    is_column.assign(3 * n_blocks, 0);
+    row_length.assign(n_rows, 0);
+    for (unsigned int b = 0; b < n_rows / 3; ++b)
       {
-        find_neighbours(b);
+        find_neighbours(cells, b, mark, neighbours);
         unsigned int free_length = 0;
         for (const unsigned int k : neighbours)
           for (unsigned int j = 0; j < 3; ++j)
@@ -359,39 +445,56 @@ namespace softface
               is_column[row_relevant[r]] = 1;
           }
       }
+  }
 
-    // The column map: the owned DoFs that are columns in their order, then
-    // the others ascending (as Epetra makes it from global indices on two
-    // ranks). A point's columns stay in the order of their components.
-    std::vector<int>          column_of(relevant.n_elements(), -1);
-    std::vector<unsigned int> block_order(n_blocks, invalid);
-    std::vector<GlobalIndex>  column_global;
+  void
+  OwnedRowsMatrix::order_point_block_columns(
+    const std::vector<GlobalIndex> &relevant_global,
+    std::vector<char>              &is_column,
+    std::vector<int>               &column_of,
+    std::vector<unsigned int>      &block_order,
+    std::vector<GlobalIndex>       &column_global) const
+  {
+    // The owned DoFs that are columns in their order, then the others
+    // ascending (as Epetra makes it from global indices on two ranks). A
+    // point's columns stay in the order of their components.
+    column_of.assign(relevant.n_elements(), -1);
+    block_order.assign(relevant.n_elements() / 3,
+                       numbers::invalid_unsigned_int);
+    column_global.clear();
     for (const bool own : {true, false})
       for (unsigned int k = 0; k < relevant.n_elements(); ++k)
         if (is_column[k] && owned.is_element(relevant_global[k]) == own)
           {
             column_of[k] = column_global.size();
-            if (block_order[k / 3] == invalid)
+            if (block_order[k / 3] == numbers::invalid_unsigned_int)
               block_order[k / 3] = column_global.size();
             column_global.push_back(relevant_global[k]);
           }
     release(is_column);
-    const Epetra_Map row_map = owned.make_trilinos_map(communicator, false);
-    const Epetra_Map column_map(
-      -1, column_global.size(), column_global.data(), 0, row_map.Comm());
-    release(column_global);
-    Epetra_CrsGraph graph(Copy, row_map, column_map, row_length.data(), true);
+  }
 
-    // Second pass: each point's neighbours in column order, its rows'
-    // columns, and the place of each of its cells' entries in its rows.
+  void
+  OwnedRowsMatrix::insert_point_block_rows(
+    const PointBlockCells           &cells,
+    const std::vector<unsigned int> &row_relevant,
+    const std::vector<int>          &column_of,
+    const std::vector<unsigned int> &block_order,
+    Epetra_CrsGraph                 &graph)
+  {
+    // Each point's neighbours in column order, its rows' columns, and the
+    // place of each of its cells' entries in its rows.
+    const unsigned int n_blocks = relevant.n_elements() / 3;
+    const std::size_t  n_cells  = cells.cell_block.size() / 4;
     cell_entry.assign(144 * n_cells, no_entry);
-    std::fill(mark.begin(), mark.end(), invalid);
+    std::vector<unsigned int>  mark(n_blocks, numbers::invalid_unsigned_int);
+    std::vector<unsigned int>  neighbours;
     std::vector<int>           columns;
     std::vector<std::uint16_t> place(3 * n_blocks, no_entry);
     bool                       ok = true;
-    for (unsigned int b = 0; b < n_row_blocks && ok; ++b)
+    for (unsigned int b = 0; b < owned.n_elements() / 3 && ok; ++b)
       {
-        find_neighbours(b);
+        find_neighbours(cells, b, mark, neighbours);
         std::sort(neighbours.begin(),
                   neighbours.end(),
                   [&](const unsigned int x, const unsigned int y) {
@@ -419,12 +522,12 @@ namespace softface
               ok =
                 graph.InsertMyIndices(r, columns.size(), columns.data()) == 0;
           }
-        for (unsigned int c = cells_of_block_start[b];
-             c < cells_of_block_start[b + 1];
+        for (unsigned int c = cells.cells_of_block_start[b];
+             c < cells.cells_of_block_start[b + 1];
              ++c)
           {
-            const std::size_t  cell = cells_of_block[c] / 4;
-            const unsigned int a    = cells_of_block[c] % 4;
+            const std::size_t  cell = cells.cells_of_block[c] / 4;
+            const unsigned int a    = cells.cells_of_block[c] % 4;
             for (unsigned int i = 0; i < 3; ++i)
               {
                 std::uint16_t *entry =
@@ -434,35 +537,13 @@ namespace softface
                   entry[3 * a + i] = 0;
                 else
                   for (unsigned int q = 0; q < 12; ++q)
-                    entry[q] = place[3 * cell_block[4 * cell + q / 3] + q % 3];
+                    entry[q] =
+                      place[3 * cells.cell_block[4 * cell + q / 3] + q % 3];
               }
           }
       }
     AssertThrow(Utilities::MPI::min(ok ? 1 : 0, communicator) == 1,
                 ExcInternalError());
-    release(cells_of_block);
-    release(cells_of_block_start);
-    release(cell_block);
-    release(mark);
-    release(place);
-    make_matrix(graph, row_map, trilinos_matrix);
-    zero();
-    for (unsigned int r = 0; r < n_rows; ++r)
-      AssertThrow(trilinos_matrix.trilinos_matrix().NumMyEntries(r) ==
-                      row_length[r] &&
-                    row_length[r] < no_entry,
-                  ExcInternalError());
-
-    diagonal_column.resize(n_rows);
-    for (unsigned int r = 0; r < n_rows; ++r)
-      diagonal_column[r] = column_of[row_relevant[r]];
-    column_is_join.assign(column_map.NumMyElements(), 0);
-    for (unsigned int k = 0; k < relevant.n_elements(); ++k)
-      if (column_of[k] >= 0)
-        column_is_join[column_of[k]] = relevant_is_join[k];
-    release(cell_column);
-    release(cell_order);
-    return true;
   }
 
   void

@@ -240,18 +240,33 @@ namespace softface
       // (Newton's) are in that numbering: no rank builds the element on the
       // scene's whole mesh, which the members of a group of ranks may not
       // hold (Scene::has_cells()).
-      ranks_layout                    = &distributed_layout(*scene);
-      const DistributedLayout &layout = *ranks_layout;
-      ranks_dofs = std::make_unique<DoFHandler<3>>(layout.triangulation);
+      ranks_layout = &distributed_layout(*scene);
+      ranks_dofs = std::make_unique<DoFHandler<3>>(ranks_layout->triangulation);
       ranks_dofs->distribute_dofs(*fe);
-      ranks_dof_handler                   = ranks_dofs.get();
-      const types::global_dof_index n     = ranks_dofs->n_dofs();
-      const IndexSet               &owned = ranks_dofs->locally_owned_dofs();
+      ranks_dof_handler = ranks_dofs.get();
       DoFTools::extract_locally_relevant_dofs(*ranks_dofs, relevant_dofs);
       ranks_serial_dofs.assign(relevant_dofs.begin(), relevant_dofs.end());
       ranks_dofs_per_cell = fe->n_dofs_per_cell();
       ranks_cell_dofs.clear();
 
+      std::vector<unsigned char> join = collect_rank_cells();
+      share_join_flags(join);
+      rank_cell_all_join.assign(rank_cells.size(), true);
+      for (unsigned int k = 0; k < rank_cells.size(); ++k)
+        for (unsigned int i = 0; i < ranks_dofs_per_cell; ++i)
+          if (!is_join[rank_cell_dofs[ranks_dofs_per_cell * k + i]])
+            rank_cell_all_join[k] = false;
+
+      if (scene->has_body_force())
+        assemble_body_force_on_ranks();
+    }
+
+    std::vector<unsigned char>
+    ReferenceFEM::collect_rank_cells()
+    {
+      const DistributedLayout      &layout = *ranks_layout;
+      const types::global_dof_index n      = ranks_dofs->n_dofs();
+      const IndexSet               &owned  = ranks_dofs->locally_owned_dofs();
       // The join DoFs by setup_serial()'s rules, decided for the DoFs this
       // rank owns: every cell at one of them is its own or a ghost cell, and
       // a ghost cell's face that bounds only this rank's part (boundary id
@@ -324,7 +339,14 @@ namespace softface
                                    dofs.end());
           }
       rank_cell_dofs = ranks_cell_dofs;
+      return join;
+    }
 
+    void
+    ReferenceFEM::share_join_flags(std::vector<unsigned char> &join)
+    {
+      const types::global_dof_index n     = ranks_dofs->n_dofs();
+      const IndexSet               &owned = ranks_dofs->locally_owned_dofs();
       // Each rank's answers for its own DoFs make the whole flags.
       Point<3>                owned_points_sum;
       types::global_dof_index next = 0;
@@ -348,46 +370,42 @@ namespace softface
       dof_points_centroid = Point<3>(
         Utilities::MPI::sum(Tensor<1, 3>(owned_points_sum), communicator) /
         std::max<double>(n, 1));
+    }
 
-      rank_cell_all_join.assign(rank_cells.size(), true);
-      for (unsigned int k = 0; k < rank_cells.size(); ++k)
-        for (unsigned int i = 0; i < n_cell; ++i)
-          if (!is_join[rank_cell_dofs[n_cell * k + i]])
-            rank_cell_all_join[k] = false;
-
+    void
+    ReferenceFEM::assemble_body_force_on_ranks()
+    {
       // The body force against this layout's shape functions, by the scene's
       // rule per material id (the serial cell_body_force): each rank its own
       // DoFs' whole loads, from every cell at them, so that the sum over the
       // ranks adds one number to zeros and is the same on every rank.
-      if (scene->has_body_force())
+      const unsigned int     n_cell = fe->n_dofs_per_cell();
+      const IndexSet        &owned  = ranks_dofs->locally_owned_dofs();
+      const QGaussSimplex<3> quadrature(3);
+      FEValues<3>            fe_values(scene->mapping,
+                            *fe,
+                            quadrature,
+                            update_values | update_JxW_values);
+      layout_body_force.reinit(ranks_dofs->n_dofs());
+      for (unsigned int k = 0; k < rank_cells.size(); ++k)
         {
-          const QGaussSimplex<3> quadrature(3);
-          FEValues<3>            fe_values(scene->mapping,
-                                *fe,
-                                quadrature,
-                                update_values | update_JxW_values);
-          layout_body_force.reinit(n);
-          for (unsigned int k = 0; k < rank_cells.size(); ++k)
-            {
-              const auto &cell = rank_cells[k];
-              fe_values.reinit(cell);
-              const Tensor<1, 3> b =
-                scene->effects.mass_density(cell->material_id()) *
-                scene->effects.acceleration;
-              for (unsigned int i = 0; i < n_cell; ++i)
-                if (const auto dof = rank_cell_dofs[n_cell * k + i];
-                    owned.is_element(dof))
-                  {
-                    const unsigned int c =
-                      fe->system_to_component_index(i).first;
-                    for (unsigned int q = 0; q < quadrature.size(); ++q)
-                      layout_body_force[dof] +=
-                        b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
-                  }
-            }
-          sum_over_ranks(layout_body_force);
-          body_force = &layout_body_force;
+          const auto &cell = rank_cells[k];
+          fe_values.reinit(cell);
+          const Tensor<1, 3> b =
+            scene->effects.mass_density(cell->material_id()) *
+            scene->effects.acceleration;
+          for (unsigned int i = 0; i < n_cell; ++i)
+            if (const auto dof = rank_cell_dofs[n_cell * k + i];
+                owned.is_element(dof))
+              {
+                const unsigned int c = fe->system_to_component_index(i).first;
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  layout_body_force[dof] +=
+                    b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
+              }
         }
+      sum_over_ranks(layout_body_force);
+      body_force = &layout_body_force;
     }
 
     void

@@ -1,11 +1,10 @@
 // The output plugin family (outputs): the registry that the one-line
 // SOFTFACE_REGISTER_OUTPUT fills, and what every output shares.
 
-#include <softface/core/error.h>
+#include <softface/core/plugin_registry.h>
 #include <softface/outputs/interface.h>
 
 #include <cctype>
-#include <map>
 
 namespace softface
 {
@@ -15,10 +14,10 @@ namespace softface
     {
       // Function-local so that registrations from static initialisers in
       // any translation unit find it constructed.
-      std::map<std::string, Registration> &
+      NamedRegistry<Registration> &
       registry()
       {
-        static std::map<std::string, Registration> outputs;
+        static NamedRegistry<Registration> outputs("output");
         return outputs;
       }
     } // namespace
@@ -71,19 +70,13 @@ namespace softface
     std::vector<std::string>
     registered_names()
     {
-      std::vector<std::string> names;
-      for (const auto &entry : registry())
-        names.push_back(entry.first);
-      return names;
+      return registry().names();
     }
 
     std::string
     describe_registered()
     {
-      std::string text;
-      for (const auto &[name, registration] : registry())
-        text += "  " + name + ": " + registration.description + "\n";
-      return text;
+      return registry().describe();
     }
 
     namespace internal
@@ -91,9 +84,7 @@ namespace softface
       bool
       register_output(const std::string &name, Registration registration)
       {
-        if (!registry().emplace(name, std::move(registration)).second)
-          throw Error("Output '" + name + "' is registered twice.");
-        return true;
+        return registry().add(name, std::move(registration));
       }
     } // namespace internal
   }   // namespace Outputs

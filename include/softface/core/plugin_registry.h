@@ -20,6 +20,94 @@ namespace softface
   using namespace dealii;
 
   /**
+   * Plugins of one kind by name, each with its @p Registration (which has a
+   * 'description'), filled from static initialisers: what every plugin
+   * family shares (models, effects, outputs, mesh sources).
+   */
+  template <typename Registration>
+  class NamedRegistry
+  {
+  public:
+    /// @p kind names a plugin in messages ("mesh source").
+    explicit NamedRegistry(const std::string &kind)
+        : kind(kind)
+    {}
+
+    /// A second registration under a name would silently replace the
+    /// first: a programming error, reported in every build.
+    bool
+    add(const std::string &name, Registration registration)
+    {
+      if (!plugins.emplace(name, std::move(registration)).second)
+        throw Error(capitalised(kind) + " '" + name + "' is registered twice.");
+      return true;
+    }
+
+    /// The registration of @p name, or nullptr.
+    const Registration *
+    find(const std::string &name) const
+    {
+      const auto entry = plugins.find(name);
+      return entry == plugins.end() ? nullptr : &entry->second;
+    }
+
+    /// In alphabetical order.
+    std::vector<std::string>
+    names() const
+    {
+      std::vector<std::string> list;
+      for (const auto &entry : plugins)
+        list.push_back(entry.first);
+      return list;
+    }
+
+    /// The names joined by @p separator (", " for a documentation, "|" for
+    /// a Patterns::Selection).
+    std::string
+    joined_names(const std::string &separator = ", ") const
+    {
+      std::string text;
+      for (const auto &entry : plugins)
+        text += (text.empty() ? "" : separator) + entry.first;
+      return text;
+    }
+
+    /// One line per plugin: "  name: description" (for --help).
+    std::string
+    describe() const
+    {
+      std::string text;
+      for (const auto &[name, registration] : plugins)
+        text += "  " + name + ": " + registration.description + "\n";
+      return text;
+    }
+
+    /// (name, registration) pairs in alphabetical order.
+    auto
+    begin() const
+    {
+      return plugins.begin();
+    }
+    auto
+    end() const
+    {
+      return plugins.end();
+    }
+
+  private:
+    static std::string
+    capitalised(std::string word)
+    {
+      if (!word.empty())
+        word[0] = std::toupper(static_cast<unsigned char>(word[0]));
+      return word;
+    }
+
+    const std::string                   kind;
+    std::map<std::string, Registration> plugins;
+  };
+
+  /**
    * The plugins of one kind (models, effects). Each registers itself, from a
    * static initialiser, under the name a parameter file uses, with a
    * description, the declaration of its own subsection and a factory. A
@@ -49,37 +137,28 @@ namespace softface
         : kind(kind)
         , article(article)
         , section(section)
+        , plugins(kind)
     {}
 
-    /// A second registration under a name would silently replace the
-    /// first: a programming error, reported in every build.
+    /// Throws on a second registration under @p name.
     bool
     add(const std::string &name, Registration registration)
     {
-      if (plugins.count(name) != 0)
-        throw Error(capitalised(kind) + " '" + name + "' is registered twice.");
-      plugins[name] = std::move(registration);
-      return true;
+      return plugins.add(name, std::move(registration));
     }
 
     /// In alphabetical order.
     std::vector<std::string>
     names() const
     {
-      std::vector<std::string> list;
-      for (const auto &entry : plugins)
-        list.push_back(entry.first);
-      return list;
+      return plugins.names();
     }
 
     /// "a, b, c", for an entry's documentation.
     std::string
     joined_names() const
     {
-      std::string text;
-      for (const auto &entry : plugins)
-        text += (text.empty() ? "" : ", ") + entry.first;
-      return text;
+      return plugins.joined_names();
     }
 
     /// Every plugin's subsection (the handler is inside the section).
@@ -106,7 +185,7 @@ namespace softface
       const std::string entry = section + "/" + section + ": '";
       for (unsigned int i = 0; i < list.size(); ++i)
         {
-          if (plugins.count(list[i]) == 0)
+          if (plugins.find(list[i]) == nullptr)
             throw Error(entry + list[i] + "' is not " + article + " " + kind +
                         " ('softface --help' lists them).");
           if (std::find(list.begin(), list.begin() + i, list[i]) !=
@@ -120,10 +199,10 @@ namespace softface
     std::unique_ptr<Plugin>
     create(const std::string &name, ParameterHandler &prm) const
     {
-      const auto entry = plugins.find(name);
-      if (entry == plugins.end())
+      const Registration *registration = plugins.find(name);
+      if (registration == nullptr)
         throw Error("Unknown " + kind + " '" + name + "'.");
-      auto plugin = entry->second.factory();
+      auto plugin = registration->factory();
       prm.enter_subsection(section);
       prm.enter_subsection(name);
       try
@@ -145,25 +224,14 @@ namespace softface
     std::string
     describe() const
     {
-      std::string text;
-      for (const auto &[name, registration] : plugins)
-        text += "  " + name + ": " + registration.description + "\n";
-      return text;
+      return plugins.describe();
     }
 
   private:
-    static std::string
-    capitalised(std::string word)
-    {
-      if (!word.empty())
-        word[0] = std::toupper(static_cast<unsigned char>(word[0]));
-      return word;
-    }
-
-    const std::string                   kind;
-    const std::string                   article;
-    const std::string                   section;
-    std::map<std::string, Registration> plugins;
+    const std::string           kind;
+    const std::string           article;
+    const std::string           section;
+    NamedRegistry<Registration> plugins;
   };
 } // namespace softface
 

@@ -231,6 +231,24 @@ namespace softface
       bool unstable = false;
     };
 
+    /// Newton's vectors within a load step.
+    struct StepState
+    {
+      explicit StepState(const unsigned int n);
+      /// The join DoFs' motion still to make: the step's, until the first
+      /// accepted iteration, then zero.
+      Vector<double> join_increment;
+      Vector<double> forces, rhs, du, trial, trial_forces;
+      /// The part of the increment that closes the holding constraints'
+      /// gaps.
+      Vector<double> closing;
+      /// The accepted line-search point was evaluated with its tangent, so
+      /// the next iteration starts from it without assembling again.
+      bool evaluated = false;
+      /// Whether an iteration solved with an indefinite tangent (LU).
+      bool indefinite = false;
+    };
+
     /// @p guess, if not null, is a start for the step with its join DoFs
     /// at @p target (the secant or join-only predictor); if the
     /// discretisation refuses it, the tangent predictor runs instead
@@ -242,6 +260,91 @@ namespace softface
          TimerOutput          &timer,
          std::ostream         *progress,
          const Vector<double> *guess = nullptr);
+
+    /// Take @p guess as the step's start if the discretisation accepts it
+    /// (u, forces and tangent there); false if it refuses it.
+    bool
+    start_from_guess(const Vector<double> &guess,
+                     const double          load,
+                     TimerOutput          &timer,
+                     Vector<double>       &u,
+                     StepState            &s);
+
+    /// @p result converged at @p u, unless an iteration crossed an
+    /// indefinite tangent (or Parameters::check_stability) and the tangent
+    /// there is not positive definite.
+    StepResult
+    converged_if_stable(const Vector<double> &u,
+                        const double          load,
+                        TimerOutput          &timer,
+                        const bool            indefinite,
+                        StepResult            result);
+
+    /// The Newton system at @p u from the forces and tangent there: the
+    /// right-hand side with the join increment, the join DoFs eliminated,
+    /// the holding constraints condensed.
+    void
+    assemble_newton_system(const Vector<double> &u,
+                           const double          load,
+                           TimerOutput          &timer,
+                           StepState            &s);
+
+    /// The increment s.du, with its join and constrained parts; false, with
+    /// the reason in @p result, if the linear solver failed.
+    bool
+    solve_newton_system(TimerOutput &timer, StepState &s, StepResult &result);
+
+    /// Backtracking along s.du from @p u; true if a point is accepted (in
+    /// s.trial, its forces and tangent evaluated).
+    bool
+    line_search(const Vector<double> &u,
+                const double          load,
+                const bool            first,
+                const double          residual,
+                TimerOutput          &timer,
+                StepState            &s);
+
+    /// A progress line for an iteration that took over 5 s.
+    void
+    report_slow_iteration(std::ostream      *progress,
+                          const Timer       &iteration_timer,
+                          const bool         first,
+                          const unsigned int linear_before,
+                          const StepResult  &result) const;
+
+    /// The norm of @p v on the free DoFs, in the constrained directions.
+    double
+    free_norm(const Vector<double> &v);
+
+    /// @p what, followed by where the discretisation refused a state.
+    std::string
+    refused(const std::string &what) const;
+
+    /// Throw if the solver's parameters and the tangent's layout do not go
+    /// together (KINSOL with constraints; what needs the whole tangent).
+    void
+    refuse_unsupported(const std::string &description) const;
+
+    /// The start of the step from @p load to @p next in @p guess (join
+    /// DoFs at @p target): the initial guess if @p from_guess, else the
+    /// predictor's if it is not the tangent's; nullptr: the tangent
+    /// predictor.
+    const Vector<double> *
+    predicted_start(const Vector<double> &u,
+                    const Vector<double> &target,
+                    const double          load,
+                    const double          next,
+                    const bool            from_guess,
+                    Vector<double>       &guess) const;
+
+    /// After a converged step to @p load: update the unilateral constraints
+    /// and solve the step again (@p step_again) until none changes
+    /// (@p result then is the last solve's, its iterations summed).
+    void
+    settle_active_set(const Vector<double>              &u,
+                      const double                       load,
+                      const std::function<StepResult()> &step_again,
+                      StepResult                        &result);
 
     /// The corrector iterations of a step by KINSOL, from @p u (the
     /// predictor's state, join DoFs at the step's target).
@@ -293,11 +396,15 @@ namespace softface
 
     Report report;
     /// The largest unbalanced force a load step started with.
-    double                reference_force = 0.;
-    const Vector<double> *external        = nullptr;
-    VertexConstraintSet  *constraints     = nullptr;
-    const Vector<double> *bone            = nullptr;
-    unsigned int          max_rounds      = 50;
+    double reference_force = 0.;
+    /// The converged state before the last one and its load, for the
+    /// secant predictor.
+    Vector<double>        previous;
+    double                previous_load = 0.;
+    const Vector<double> *external      = nullptr;
+    VertexConstraintSet  *constraints   = nullptr;
+    const Vector<double> *bone          = nullptr;
+    unsigned int          max_rounds    = 50;
     Path                  path;
     const Vector<double> *initial_guess = nullptr;
     DistributedTangent   *distributed   = nullptr;
@@ -306,6 +413,8 @@ namespace softface
     /// The bone displacement at the current load on a path, and the load
     /// factor the constraints apply to the bone vector (1 on a path).
     Vector<double> bone_on_path;
+    /// Scratch for free_norm().
+    Vector<double> condensed;
     const Vector<double> *
     bone_now() const;
     double

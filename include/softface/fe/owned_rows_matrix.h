@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+class Epetra_CrsGraph;
+
 namespace softface
 {
   using namespace dealii;
@@ -146,6 +148,47 @@ namespace softface
     }
 
   private:
+    using GlobalIndex = TrilinosWrappers::types::int_type;
+
+    /// Throw on every rank if @p ok is false on one (a rank left alone in
+    /// a collective call would wait forever).
+    void
+    check_on_every_rank(const bool ok) const;
+
+    /// The general way, step 1: each cell's DoFs as this rank's rows
+    /// (cell_row) and as locally relevant DoFs (cell_column); the cells at
+    /// each owned row (those of row r from cells_of_row_start[r]).
+    void
+    find_cell_rows(const std::vector<types::global_dof_index> &cell_dofs,
+                   std::vector<unsigned int> &cells_of_row_start,
+                   std::vector<unsigned int> &cells_of_row);
+
+    /// Step 2: the graph whose row's columns are the DoFs of its cells,
+    /// and the matrix on it (the cells at each row released).
+    void
+    make_graph_of_cells(const std::vector<GlobalIndex>  &relevant_global,
+                        const std::vector<unsigned int> &row_relevant,
+                        std::vector<unsigned int>       &cells_of_row_start,
+                        std::vector<unsigned int>       &cells_of_row);
+
+    /// Step 3: the diagonal's column of each row, which columns are join
+    /// DoFs, and each cell's columns in the matrix's numbers, sorted, with
+    /// the cell's DoF of each (cell_order).
+    void
+    sort_cell_columns(const std::vector<GlobalIndex>  &relevant_global,
+                      const std::vector<unsigned int> &row_relevant);
+
+    /// Linear tetrahedra whose DoFs are point blocks (set_point_block_cells()).
+    struct PointBlockCells
+    {
+      /// Per cell and vertex: its point among the relevant DoFs' blocks.
+      std::vector<unsigned int> cell_block;
+      /// The cells at owned point b, as 4 cell + vertex, are
+      /// cells_of_block[cells_of_block_start[b] ...].
+      std::vector<unsigned int>  cells_of_block_start;
+      std::vector<std::uint64_t> cells_of_block;
+    };
+
     /**
      * set_cells() where every cell is a linear tetrahedron whose DoFs come
      * vertex by vertex as point blocks (3p, 3p+1, 3p+2), as a P1 layout's
@@ -158,10 +201,63 @@ namespace softface
      * @p row_relevant each owned row's place among the relevant DoFs.
      */
     bool
-    set_point_block_cells(
-      const std::vector<types::global_dof_index>           &cell_dofs,
-      const std::vector<TrilinosWrappers::types::int_type> &relevant_global,
-      const std::vector<unsigned int>                      &row_relevant);
+    set_point_block_cells(const std::vector<types::global_dof_index> &cell_dofs,
+                          const std::vector<GlobalIndex>  &relevant_global,
+                          const std::vector<unsigned int> &row_relevant);
+
+    /// Whether every rank's cells are point blocks with an owned point
+    /// each (collective); if so, @p cells and cell_row.
+    bool
+    find_point_blocks(const std::vector<types::global_dof_index> &cell_dofs,
+                      PointBlockCells                            &cells);
+
+    /// The points of owned point @p b's cells, once each (b among them),
+    /// in @p neighbours; @p mark: a point's last b (invalid at first).
+    static void
+    find_neighbours(const PointBlockCells     &cells,
+                    const unsigned int         b,
+                    std::vector<unsigned int> &mark,
+                    std::vector<unsigned int> &neighbours);
+
+    /// Each owned row's length, and which relevant DoFs are columns.
+    void
+    count_point_block_rows(const PointBlockCells           &cells,
+                           const std::vector<unsigned int> &row_relevant,
+                           std::vector<int>                &row_length,
+                           std::vector<char>               &is_column) const;
+
+    /// The column map (@p column_global): the owned DoFs that are columns,
+    /// then the others; each relevant DoF's column (-1: none) and each
+    /// point's first column. Releases @p is_column.
+    void
+    order_point_block_columns(const std::vector<GlobalIndex> &relevant_global,
+                              std::vector<char>              &is_column,
+                              std::vector<int>               &column_of,
+                              std::vector<unsigned int>      &block_order,
+                              std::vector<GlobalIndex> &column_global) const;
+
+    /// The rows' columns into @p graph, and the place of each cell's
+    /// entries in its rows (cell_entry).
+    void
+    insert_point_block_rows(const PointBlockCells           &cells,
+                            const std::vector<unsigned int> &row_relevant,
+                            const std::vector<int>          &column_of,
+                            const std::vector<unsigned int> &block_order,
+                            Epetra_CrsGraph                 &graph);
+
+    /// With the join couplings dropped, a join DoF's row keeps its diagonal
+    /// alone and no row keeps a join DoF's column.
+    bool
+    dropped_row(const unsigned int r) const
+    {
+      return join_couplings == JoinCouplings::dropped && row_is_join[r];
+    }
+    bool
+    dropped_column(const unsigned int k) const
+    {
+      return join_couplings == JoinCouplings::dropped &&
+             bool(relevant_is_join[k]);
+    }
 
     /**
      * Call at(k, q) for each of cell @p cell's DoFs q that has a place k in

@@ -130,6 +130,20 @@ namespace softface
       /// Build them.
       void
       setup_ranks();
+      /// The cells this rank evaluates, their DoFs, the DoFs' points and
+      /// components, the owned vertex DoFs' layout DoFs; returns the join
+      /// flags this rank decides (for its own DoFs; others' are not final).
+      std::vector<unsigned char>
+      collect_rank_cells();
+      /// Each rank's join flags for its own DoFs into is_join on every
+      /// rank (@p join released), and the centroid of the DoFs' points.
+      /// Collective.
+      void
+      share_join_flags(std::vector<unsigned char> &join);
+      /// The body force against this element on the layout (each rank its
+      /// own DoFs', summed). Collective.
+      void
+      assemble_body_force_on_ranks();
       /// Each rank's part of @p whole (zero elsewhere) summed over the
       /// ranks, on every rank. Collective.
       void
