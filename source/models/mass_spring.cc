@@ -6,10 +6,11 @@
 
 #include <softface/core/error.h>
 #include <softface/core/tetrahedron.h>
-#include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/mass_spring.h>
+#include <softface/models/point_constraints.h>
 #include <softface/models/point_exchange.h>
+#include <softface/models/point_sweeps.h>
 
 #include <algorithm>
 #include <cmath>
@@ -159,6 +160,8 @@ namespace softface
       add_detail("springs", spring_list.size());
       timed.stop();
 
+      make_point_constraints(*scene, n, point_constraints, constraint_of_point);
+
       // A constrained update moves its partner too, further than a block's
       // colour keeps apart: such scenes sweep in plain order on one thread.
       colouring = scene->has_vertex_constraints() ?
@@ -170,48 +173,109 @@ namespace softface
       exchange = point_exchange(*scene, *colouring, *mesh);
     }
 
-    void
-    MassSpring::do_solve(const Vector<double> &prescribed,
-                         Vector<double>       &displacement)
+    /**
+     * The mass spring model's part of its sweeps (PointSweeps): a point's
+     * local steepest-descent step under its springs (seed eq. 4) and its
+     * constraint, halved where it would invert a tetrahedron; a load step
+     * ends where the dynamic cut-out leaves no point to move.
+     */
+    class MassSpring::LocalUpdates
     {
-      Assert(scene != nullptr, ExcMessage("MassSpring::setup() first."));
-      const auto        &row_start     = mesh->row_start;
-      const auto        &other_end     = mesh->neighbour;
-      const auto        &is_free       = mesh->is_free;
-      const auto        &tetrahedra    = mesh->tetrahedra;
-      const auto        &tet_start     = mesh->tet_start;
-      const auto        &tets_of_point = mesh->tets_of_point;
-      const auto        &rest_position = mesh->position;
-      const unsigned int n             = rest_position.size();
-      // The points this rank moves: the free ones, on several MPI ranks
-      // those it owns. Every decision to go on or stop is a global one.
-      std::vector<char> mine       = points_to_update(*mesh, exchange.get());
-      const auto        global_sum = [&](const unsigned long long local) {
-        return sum_over_ranks(exchange.get(), local);
-      };
-      const auto global_max = [&](const double local) {
-        return max_over_ranks(exchange.get(), local);
-      };
-      static_assert(sizeof(Point<3>) == 3 * sizeof(double),
-                    "the exchange reads positions as 3 doubles per point");
-      // Ghost points that moved in an exchange.
-      std::vector<unsigned int> moved_ghosts;
+    public:
+      LocalUpdates(const MassSpring      &model,
+                   PointSweeps           &sweeps,
+                   std::vector<Point<3>> &x,
+                   const Vector<double>  &prescribed,
+                   const bool             warm);
 
-      // Warm start: from the previous plan's answer; the load steps carry
-      // the join points from that plan's positions ('start') to this one's.
-      const bool            warm = warm_start && last_position.size() == n;
-      std::vector<Point<3>> x(warm ? last_position : rest_position);
-      Vector<double>        start(prescribed.size());
-      if (warm)
-        start = last_prescribed;
-      Vector<double> motion(prescribed);
-      motion -= start;
-      // External nodal forces (gravity), if the scene has them.
-      const double *const load =
-        scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
+      // Inlined into the sweep's loop over a block's points (GCC would
+      // call it once per point).
+      DEAL_II_ALWAYS_INLINE bool
+      update(const unsigned int         j,
+             SweepTally                &tally,
+             std::vector<unsigned int> &queued)
+      {
+        Tensor<1, 3>       step = free_step(j), step_other;
+        const unsigned int partner =
+          (constrained && model.constraint_of_point[j] >= 0) ?
+            constrain(j, step, step_other) :
+            numbers::invalid_unsigned_int;
+        const bool   paired = partner != numbers::invalid_unsigned_int;
+        const double size =
+          std::max(step.norm(), paired ? step_other.norm() : 0.);
+        if (!(size > stop_threshold))
+          {
+            if (!std::isfinite(size))
+              {
+                tally.failure = std::numeric_limits<double>::infinity();
+                return false;
+              }
+            return true;
+          }
+        // Springs alone do not keep a tetrahedron from turning inside out
+        // (seed 2.2, disadvantage 1): a step that would invert one is
+        // halved until it does not, or not taken.
+        const Point<3> old      = x[j];
+        unsigned int   halvings = 0;
+        for (; halvings < 8 && prevent_inversion; ++halvings, step *= 0.5)
+          {
+            x[j] = old + step;
+            if (!inverts_a_tetrahedron(j))
+              break;
+          }
+        if (!prevent_inversion)
+          x[j] = old + step;
+        else if (halvings == 8)
+          {
+            x[j] = old;
+            ++tally.held_back;
+            return true;
+          }
+        // A pair moves together (by as much of its step as j).
+        if (paired)
+          x[partner] +=
+            (prevent_inversion ? std::pow(0.5, halvings) : 1.) * step_other;
+        // Their own forces and their neighbours' have changed. A step lost
+        // in rounding moved nothing (a stop threshold of 0): nothing to
+        // wake, as a rank that reads j as a ghost sees (PointExchange).
+        if (paired || x[j] != old)
+          {
+            sweeps.queue(j, queued);
+            sweeps.queue_neighbours(j, queued);
+          }
+        if (paired)
+          {
+            sweeps.queue(partner, queued);
+            sweeps.queue_neighbours(partner, queued);
+          }
+        return true;
+      }
 
-      // The force on point j (seed eq. 4) and its shortest spring.
-      const auto force = [&](const unsigned int j, double &shortest) {
+      void
+      finish_sweep(const std::vector<unsigned int> &)
+      {}
+
+      double
+      threshold() const
+      {
+        return stop_threshold;
+      }
+
+      std::string
+      too_many_sweeps(const PointSweeps               &sweeps,
+                      const std::vector<unsigned int> &points) const;
+
+      SweepDecision
+      after_sweep(const PointSweeps &sweeps,
+                  const SweepTally  &tally,
+                  const bool         stop_proposed) const;
+
+      /// The force on point j (seed eq. 4) and its shortest spring.
+      Tensor<1, 3>
+      force(const unsigned int j, double &shortest) const
+      {
+        const auto  &row_start = model.mesh->row_start;
+        const auto  &other_end = model.mesh->neighbour;
         Tensor<1, 3> F;
         if (load != nullptr)
           for (unsigned int c = 0; c < 3; ++c)
@@ -219,96 +283,277 @@ namespace softface
         shortest = std::numeric_limits<double>::max();
         for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
           {
-            const Spring      &s      = spring_list[spring_of[i]];
+            const Spring      &s      = model.spring_list[model.spring_of[i]];
             const Tensor<1, 3> d      = x[other_end[i]] - x[j];
             const double       length = d.norm();
             shortest                  = std::min(shortest, length);
             F += s.stiffness * (length - s.rest_length) / length * d;
           }
         return F;
-      };
+      }
 
-      ActiveSet active(n);
-      // Vertex constraints (sliding contact, lips) per point.
-      struct PointConstraint
+      /// The step a point's force asks for: F / sum k, never more than a
+      /// fraction of its shortest spring (so no spring flips in one step).
+      Tensor<1, 3>
+      free_step(const unsigned int j) const
       {
-        unsigned int a, b; // b = a without a partner
-        Tensor<1, 3> n;
-        bool         unilateral;
-      };
-      std::vector<PointConstraint> constraints;
-      std::vector<int>             constraint_of_point;
-      if (scene->has_vertex_constraints())
+        double       shortest;
+        Tensor<1, 3> step = force(j, shortest) / model.total_stiffness[j];
+        const double size = step.norm();
+        if (size > model.max_step_fraction * shortest)
+          step *= model.max_step_fraction * shortest / size;
+        return step;
+      }
+
+      /**
+       * Move @p step of point j onto its constraint: a sliding point stays
+       * on the bone surface (orthogonal projection: the springs' stiffness
+       * at a point is isotropic). A pair moves together (a block update of
+       * both points): @p step_other is the partner's step, the two closing
+       * their gap weighted by 1 / sum k if it would open below zero.
+       * Returns the partner, or numbers::invalid_unsigned_int.
+       */
+      unsigned int
+      constrain(const unsigned int j,
+                Tensor<1, 3>      &step,
+                Tensor<1, 3>      &step_other) const;
+
+      /// Move the join points to @p load_step of @p n_load_steps of their
+      /// motion, and queue the points that feel it.
+      void
+      start_load_step(const unsigned int load_step,
+                      const unsigned int n_load_steps);
+
+      /// The positions (points in the serial numbering).
+      std::vector<Point<3>> &x;
+      /// The join displacement the load steps start from (Warm start: the
+      /// previous plan's), and the motion they add to it.
+      Vector<double> start, motion;
+      /// The join points that move (load_steps()).
+      std::vector<unsigned int> moving_joins;
+
+    private:
+      /// Does a tetrahedron at point j turn inside out at x?
+      bool
+      inverts_a_tetrahedron(const unsigned int j) const;
+
+      const MassSpring &model;
+      PointSweeps      &sweeps;
+      /// External nodal forces (gravity), if the scene has them.
+      const double *const load;
+      const bool          constrained, prevent_inversion;
+      const double        stop_threshold;
+      double              fraction  = 0.; ///< of the motion applied
+      unsigned int        load_step = 0, n_load_steps = 0;
+    };
+
+    MassSpring::LocalUpdates::LocalUpdates(const MassSpring      &model,
+                                           PointSweeps           &sweeps,
+                                           std::vector<Point<3>> &x,
+                                           const Vector<double>  &prescribed,
+                                           const bool             warm)
+        : x(x)
+        , start(prescribed.size())
+        , motion(prescribed)
+        , model(model)
+        , sweeps(sweeps)
+        , load(model.scene->has_body_force() ?
+                 model.scene->effects.body_force.begin() :
+                 nullptr)
+        , constrained(!model.constraint_of_point.empty())
+        , prevent_inversion(model.prevent_inversion)
+        , stop_threshold(model.stop_threshold)
+    {
+      if (warm)
+        start = model.last_prescribed;
+      motion -= start;
+    }
+
+    unsigned int
+    MassSpring::LocalUpdates::constrain(const unsigned int j,
+                                        Tensor<1, 3>      &step,
+                                        Tensor<1, 3>      &step_other) const
+    {
+      const auto            &rest_position = model.mesh->position;
+      const auto            &k             = model.total_stiffness;
+      const PointConstraint &c =
+        model.point_constraints[model.constraint_of_point[j]];
+      if (c.a == c.b)
         {
-          constraint_of_point.assign(n, -1);
-          for (const VertexConstraint &c : scene->effects.vertex_constraints)
+          Tensor<1, 3> bone;
+          for (unsigned int d = 0; d < 3; ++d)
+            bone[d] = start[3 * j + d] + fraction * motion[3 * j + d];
+          const double gap = c.n * (x[j] + step - rest_position[j] - bone);
+          if (!c.unilateral || gap < 0.)
+            step -= gap * c.n;
+          return numbers::invalid_unsigned_int;
+        }
+      const unsigned int other = (j == c.a ? c.b : c.a);
+      step_other               = free_step(other);
+      Tensor<1, 3> &s_a        = (j == c.a ? step : step_other);
+      Tensor<1, 3> &s_b        = (j == c.a ? step_other : step);
+      const double  gap        = c.n * ((x[c.a] + s_a - rest_position[c.a]) -
+                                (x[c.b] + s_b - rest_position[c.b]));
+      if (!c.unilateral || gap < 0.)
+        {
+          const double lambda = -gap / (1. / k[c.a] + 1. / k[c.b]);
+          s_a += lambda / k[c.a] * c.n;
+          s_b -= lambda / k[c.b] * c.n;
+        }
+      return other;
+    }
+
+    bool
+    MassSpring::LocalUpdates::inverts_a_tetrahedron(const unsigned int j) const
+    {
+      const PointMesh &mesh = *model.mesh;
+      for (unsigned int t = mesh.tet_start[j]; t < mesh.tet_start[j + 1]; ++t)
+        {
+          const auto &v = mesh.tetrahedra[mesh.tets_of_point[t]];
+          if (Tetrahedron::signed_volume(
+                {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.)
+            return true;
+        }
+      return false;
+    }
+
+    void
+    MassSpring::LocalUpdates::start_load_step(const unsigned int step,
+                                              const unsigned int n_steps)
+    {
+      load_step    = step;
+      n_load_steps = n_steps;
+      fraction     = double(load_step) / n_load_steps;
+      // A sliding point follows its bone surface.
+      for (const auto &c : model.point_constraints)
+        sweeps.queue(c.a), sweeps.queue(c.b);
+      // The load is there from the start: every free point feels it.
+      if (load_step == 1 && load != nullptr)
+        for (unsigned int j = 0; j < x.size(); ++j)
+          if (sweeps.updates(j))
+            sweeps.queue(j);
+      const auto &rest_position = model.mesh->position;
+      const auto &row_start     = model.mesh->row_start;
+      for (const unsigned int j : moving_joins)
+        {
+          for (unsigned int c = 0; c < 3; ++c)
+            x[j][c] = rest_position[j][c] + start[3 * j + c] +
+                      fraction * motion[3 * j + c];
+          for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
             {
-              const unsigned int a = scene->vertex_dofs()[c.vertex][0] / 3;
-              const unsigned int b =
-                c.partner == numbers::invalid_unsigned_int ?
-                  a :
-                  scene->vertex_dofs()[c.partner][0] / 3;
-              constraint_of_point[a] = constraint_of_point[b] =
-                constraints.size();
-              constraints.push_back(
-                {a, b, c.normal / c.normal.norm(), c.unilateral});
+              const unsigned int k = model.mesh->neighbour[i];
+              if (sweeps.updates(k))
+                sweeps.queue(k);
             }
         }
-      // The step a point's force asks for: F / sum k, never more than a
-      // fraction of its shortest spring (so no spring flips in one step).
-      const auto free_step = [&](const unsigned int j) {
-        double       shortest;
-        Tensor<1, 3> step = force(j, shortest) / total_stiffness[j];
-        const double size = step.norm();
-        if (size > max_step_fraction * shortest)
-          step *= max_step_fraction * shortest / size;
-        return step;
-      };
-      double fraction = 0.; // of the bone motion applied
-      // Move @p step of point j onto its constraint: a sliding point stays
-      // on the bone surface (orthogonal projection: the springs' stiffness
-      // at a point is isotropic). A pair moves together (a block update of
-      // both points): @p step_other is the partner's step, the two closing
-      // their gap weighted by 1 / sum k if it would open below zero.
-      // Returns the partner, or numbers::invalid_unsigned_int.
-      const auto constrain = [&](const unsigned int j,
-                                 Tensor<1, 3>      &step,
-                                 Tensor<1, 3>      &step_other) {
-        const PointConstraint &c = constraints[constraint_of_point[j]];
-        if (c.a == c.b)
-          {
-            Tensor<1, 3> bone;
-            for (unsigned int d = 0; d < 3; ++d)
-              bone[d] = start[3 * j + d] + fraction * motion[3 * j + d];
-            const double gap = c.n * (x[j] + step - rest_position[j] - bone);
-            if (!c.unilateral || gap < 0.)
-              step -= gap * c.n;
-            return numbers::invalid_unsigned_int;
-          }
-        const unsigned int other = (j == c.a ? c.b : c.a);
-        step_other               = free_step(other);
-        Tensor<1, 3> &s_a        = (j == c.a ? step : step_other);
-        Tensor<1, 3> &s_b        = (j == c.a ? step_other : step);
-        const double  gap        = c.n * ((x[c.a] + s_a - rest_position[c.a]) -
-                                  (x[c.b] + s_b - rest_position[c.b]));
-        if (!c.unilateral || gap < 0.)
-          {
-            const double lambda =
-              -gap / (1. / total_stiffness[c.a] + 1. / total_stiffness[c.b]);
-            s_a += lambda / total_stiffness[c.a] * c.n;
-            s_b -= lambda / total_stiffness[c.b] * c.n;
-          }
-        return other;
-      };
+    }
 
+    std::string
+    MassSpring::LocalUpdates::too_many_sweeps(
+      const PointSweeps               &sweeps,
+      const std::vector<unsigned int> &points) const
+    {
+      double pending = 0., shortest;
+      for (const unsigned int j : points)
+        pending =
+          std::max(pending,
+                   force(j, shortest).norm() / model.total_stiffness[j]);
+      pending = sweeps.max(pending);
+      std::ostringstream m;
+      m << "mass spring: " << model.max_sweeps
+        << " sweeps were not enough (load step " << load_step << " of "
+        << n_load_steps << "); " << sweeps.sum(points.size())
+        << " points are still active, largest pending step " << pending
+        << " mm (threshold " << stop_threshold << " mm).";
+      return m.str();
+    }
+
+    SweepDecision
+    MassSpring::LocalUpdates::after_sweep(const PointSweeps &sweeps,
+                                          const SweepTally  &tally,
+                                          const bool stop_proposed) const
+    {
+      if (tally.failure > 0.)
+        throw Error("mass spring: the force on a point became infinite or "
+                    "NaN (a spring of zero length) in sweep " +
+                    std::to_string(sweeps.n_sweeps()) + ".");
+      // The dynamic cut-out: the load step ends where no rank has a point
+      // to move.
+      return stop_proposed ? SweepDecision::stop : SweepDecision::go_on;
+    }
+
+    void
+    MassSpring::do_solve(const Vector<double> &prescribed,
+                         Vector<double>       &displacement)
+    {
+      Assert(scene != nullptr, ExcMessage("MassSpring::setup() first."));
+      static_assert(sizeof(Point<3>) == 3 * sizeof(double),
+                    "the exchange reads positions as 3 doubles per point");
+      // Warm start: from the previous plan's answer; the load steps carry
+      // the join points from that plan's positions ('start') to this one's.
+      const bool warm = warm_start && last_position.size() == mesh->n_points();
+      std::vector<Point<3>> x(warm ? last_position : mesh->position);
+      // The points this rank moves: the free ones, on several MPI ranks
+      // those it owns (PointSweeps).
+      PointSweeps::Settings settings;
+      settings.values             = &x[0][0];
+      settings.max_sweeps         = max_sweeps;
+      settings.wake_on_any_change = true;
+      PointSweeps sweeps(*mesh, *colouring, exchange.get(), settings, progress);
+      LocalUpdates       updates(*this, sweeps, x, prescribed, warm);
+      const unsigned int n_load_steps = load_steps(updates);
+
+      // The force at the start, the join points moved all at once.
+      double initial = 0.;
+      for (const unsigned int j : updates.moving_joins)
+        for (unsigned int c = 0; c < 3; ++c)
+          x[j][c] = mesh->position[j][c] + prescribed[3 * j + c];
+      for (unsigned int j = 0; j < mesh->n_points(); ++j)
+        if (mesh->is_free[j])
+          {
+            double shortest;
+            initial += updates.force(j, shortest).norm_square();
+          }
+
+      unsigned int rebalances = 0;
+      for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
+        {
+          updates.start_load_step(load_step, n_load_steps);
+          sweeps.run(updates,
+                     " (load step " + std::to_string(load_step) + " of " +
+                       std::to_string(n_load_steps) + ")");
+          if (exchange && load_step < n_load_steps)
+            rebalances += rebalance(sweeps, x);
+        }
+
+      if (exchange)
+        {
+          const auto timed = phase("gather");
+          exchange->gather(&x[0][0]);
+        }
+      displacement.reinit(3 * mesh->n_points());
+      for (unsigned int j = 0; j < mesh->n_points(); ++j)
+        for (unsigned int c = 0; c < 3; ++c)
+          displacement[3 * j + c] = x[j][c] - mesh->position[j][c];
+      report_solve(updates, sweeps, initial, n_load_steps, rebalances, warm);
+      // The next plan starts here.
+      last_position   = x;
+      last_prescribed = prescribed;
+    }
+
+    unsigned int
+    MassSpring::load_steps(LocalUpdates &updates) const
+    {
       // Moving the join points all at once can push a bone point past its
       // free neighbours, flipping springs before any free point has moved.
       // The motion is applied in load steps, each shorter than the step
       // bound of the shortest spring at a moving join point.
-      double                    largest_motion = 0., shortest_at_join = 1e300;
-      std::vector<unsigned int> moving_joins;
-      for (unsigned int j = 0; j < n; ++j)
-        if (!is_free[j])
+      const auto &row_start      = mesh->row_start;
+      const auto &motion         = updates.motion;
+      double      largest_motion = 0., shortest_at_join = 1e300;
+      updates.moving_joins.clear();
+      for (unsigned int j = 0; j < mesh->n_points(); ++j)
+        if (!mesh->is_free[j])
           {
             const double length =
               std::sqrt(motion[3 * j] * motion[3 * j] +
@@ -316,10 +561,10 @@ namespace softface
                         motion[3 * j + 2] * motion[3 * j + 2]);
             if (length == 0.)
               continue;
-            moving_joins.push_back(j);
+            updates.moving_joins.push_back(j);
             largest_motion = std::max(largest_motion, length);
             for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-              if (is_free[other_end[i]])
+              if (mesh->is_free[mesh->neighbour[i]])
                 shortest_at_join =
                   std::min(shortest_at_join,
                            spring_list[spring_of[i]].rest_length);
@@ -327,7 +572,7 @@ namespace softface
       // A bone surface that sliding points follow moves them like join
       // points.
       bool surface_moves = false;
-      for (const auto &c : constraints)
+      for (const auto &c : point_constraints)
         if (c.a == c.b)
           {
             const double length =
@@ -345,8 +590,8 @@ namespace softface
           }
       // A load alone (no bone moves) still needs one step.
       const double steps_needed =
-        moving_joins.empty() && !surface_moves ?
-          (load != nullptr ? 1 : 0) :
+        updates.moving_joins.empty() && !surface_moves ?
+          (scene->has_body_force() ? 1 : 0) :
           std::max(1.,
                    std::ceil(largest_motion /
                              (max_step_fraction * shortest_at_join)));
@@ -363,284 +608,74 @@ namespace softface
             << " load steps, more than " << max_load_steps << ".";
           throw Error(m.str());
         }
-      const unsigned int n_load_steps = steps_needed;
+      return steps_needed;
+    }
 
-      double initial = 0.;
-      for (const unsigned int j : moving_joins)
-        for (unsigned int c = 0; c < 3; ++c)
-          x[j][c] = rest_position[j][c] + prescribed[3 * j + c];
-      for (unsigned int j = 0; j < n; ++j)
-        if (is_free[j])
-          {
-            double shortest;
-            initial += force(j, shortest).norm_square();
-          }
-
-      Assert(colouring->block_start.back() == n, ExcInternalError());
-      const unsigned int                     n_blocks = colouring->n_blocks();
-      std::vector<unsigned long long>        block_blocked(n_blocks, 0);
-      std::vector<char>                      not_finite(n_blocks, 0);
-      std::vector<std::vector<unsigned int>> block_queued(n_blocks);
-      unsigned long long                     blocked_updates = 0;
-      unsigned int                           sweep           = 0;
-      unsigned long long                     point_updates   = 0;
-      // On several ranks: each block's updates in a load step, by which the
-      // ranks' blocks are shared again for the next. The cut-out works where
-      // the motion is, which the first partition, by free points, need not
-      // split evenly (a colour waits for its busiest rank), and that region
-      // changes from step to step (on the generated cube the ranks made
-      // 51:49 of the first step's updates and 2:1 of the tenth's); the last
-      // step's work is the best guess at the next's. Any range of blocks
-      // makes the serial updates (PointExchange): the answer does not
-      // change.
-      unsigned int rebalances = 0;
-      // The ranks' updates colour by colour.
-      ColourUpdates       colour_updates;
-      std::vector<double> block_work(exchange && n_load_steps > 1 ? n_blocks :
-                                                                    0,
-                                     0.);
-      for (unsigned int load_step = 1; load_step <= n_load_steps; ++load_step)
+    bool
+    MassSpring::rebalance(PointSweeps &sweeps, std::vector<Point<3>> &x)
+    {
+      // On several ranks, after a load step (no point is pending on any
+      // rank): the blocks shared again by that step's updates. The cut-out
+      // works where the motion is, which the first partition, by free
+      // points, need not split evenly (a colour waits for its busiest
+      // rank), and that region changes from step to step (on the generated
+      // cube the ranks made 51:49 of the first step's updates and 2:1 of
+      // the tenth's); the last step's work is the best guess at the next's.
+      // Any range of blocks makes the serial updates (PointExchange): the
+      // answer does not change. PointExchange adds each block's free
+      // points, so that blocks the step did not reach still spread.
+      const auto           timed      = phase("rebalance");
+      std::vector<double> &block_work = sweeps.block_updates();
+      Utilities::MPI::sum(block_work, communicator, block_work);
+      // The same on every rank (block_work is): unchanged ranges keep the
+      // exchange.
+      bool moved = false;
+      if (PointExchange::block_ranges(*colouring,
+                                      *mesh,
+                                      Utilities::MPI::n_mpi_processes(
+                                        communicator),
+                                      block_work) != exchange->ranges())
         {
-          fraction = double(load_step) / n_load_steps;
-          // A sliding point follows its bone surface.
-          for (const auto &c : constraints)
-            active.queue(c.a), active.queue(c.b);
-          // The load is there from the start: every free point feels it.
-          if (load_step == 1 && load != nullptr)
-            for (unsigned int j = 0; j < n; ++j)
-              if (mine[j])
-                active.queue(j);
-          for (const unsigned int j : moving_joins)
-            {
-              for (unsigned int c = 0; c < 3; ++c)
-                x[j][c] = rest_position[j][c] + start[3 * j + c] +
-                          fraction * motion[3 * j + c];
-              for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                {
-                  const unsigned int k = other_end[i];
-                  if (mine[k])
-                    active.queue(k);
-                }
-            }
-
-          // On several ranks a rank with no point to move sweeps on with
-          // the others, to exchange.
-          for (const std::vector<unsigned int> *current = &active.next_sweep();
-               global_sum(current->size()) > 0;
-               current = &active.next_sweep())
-            {
-              if (sweep == max_sweeps)
-                {
-                  double pending = 0., shortest;
-                  for (const unsigned int j : *current)
-                    pending =
-                      std::max(pending,
-                               force(j, shortest).norm() / total_stiffness[j]);
-                  pending = global_max(pending);
-                  std::ostringstream m;
-                  m << "mass spring: " << max_sweeps
-                    << " sweeps were not enough (load step " << load_step
-                    << " of " << n_load_steps << "); "
-                    << global_sum(current->size())
-                    << " points are still active, largest pending step "
-                    << pending << " mm (threshold " << stop_threshold
-                    << " mm).";
-                  throw Error(m.str());
-                }
-              ++sweep;
-              point_updates += current->size();
-              if (sweep % 1000 == 0)
-                {
-                  const auto n_active = global_sum(current->size());
-                  if (progress != nullptr)
-                    *progress
-                      << "      sweep " + std::to_string(sweep) +
-                           " (load step " + std::to_string(load_step) + " of " +
-                           std::to_string(n_load_steps) +
-                           "): " + std::to_string(n_active) + " active points\n"
-                      << std::flush;
-                }
-              // The blocks of one colour at once (BlockColouring), each over
-              // its points of this sweep in order; the colours in turn.
-              const auto block_update = [&](const unsigned int b,
-                                            const std::size_t  begin,
-                                            const std::size_t  end) {
-                std::vector<unsigned int> &queued = block_queued[b];
-                if (!block_work.empty())
-                  block_work[b] += end - begin;
-                for (std::size_t q = begin; q < end; ++q)
-                  {
-                    const unsigned int j = (*current)[q];
-                    {
-                      Tensor<1, 3>       step = free_step(j), step_other;
-                      const unsigned int partner =
-                        (!constraint_of_point.empty() &&
-                         constraint_of_point[j] >= 0) ?
-                          constrain(j, step, step_other) :
-                          numbers::invalid_unsigned_int;
-                      const bool paired =
-                        partner != numbers::invalid_unsigned_int;
-                      const double size =
-                        std::max(step.norm(), paired ? step_other.norm() : 0.);
-                      if (!(size > stop_threshold))
-                        {
-                          if (!std::isfinite(size))
-                            {
-                              // Reported after the sweep (not from a thread).
-                              not_finite[b] = 1;
-                              return;
-                            }
-                          continue;
-                        }
-                      // Springs alone do not keep a tetrahedron from turning
-                      // inside out (seed 2.2, disadvantage 1): a step that
-                      // would invert one is halved until it does not, or not
-                      // taken.
-                      const Point<3> old      = x[j];
-                      unsigned int   halvings = 0;
-                      for (; halvings < 8 && prevent_inversion;
-                           ++halvings, step *= 0.5)
-                        {
-                          x[j]          = old + step;
-                          bool inverted = false;
-                          for (unsigned int t = tet_start[j];
-                               t < tet_start[j + 1] && !inverted;
-                               ++t)
-                            {
-                              const auto &v = tetrahedra[tets_of_point[t]];
-                              inverted =
-                                Tetrahedron::signed_volume(
-                                  {{x[v[0]], x[v[1]], x[v[2]], x[v[3]]}}) <= 0.;
-                            }
-                          if (!inverted)
-                            break;
-                        }
-                      if (!prevent_inversion)
-                        x[j] = old + step;
-                      else if (halvings == 8)
-                        {
-                          x[j] = old;
-                          ++block_blocked[b];
-                          continue;
-                        }
-                      // A pair moves together (by as much of its step as j).
-                      if (paired)
-                        x[partner] +=
-                          (prevent_inversion ? std::pow(0.5, halvings) : 1.) *
-                          step_other;
-                      // Their own forces and their neighbours' have changed.
-                      const auto queue_around = [&](const unsigned int moved) {
-                        active.queue(moved, queued);
-                        for (unsigned int i = row_start[moved];
-                             i < row_start[moved + 1];
-                             ++i)
-                          if (mine[other_end[i]])
-                            active.queue(other_end[i], queued);
-                      };
-                      // A step lost in rounding moved nothing (a stop
-                      // threshold of 0): nothing to wake, as a rank that
-                      // reads j as a ghost sees (PointExchange).
-                      if (paired || x[j] != old)
-                        queue_around(j);
-                      if (paired)
-                        queue_around(partner);
-                    }
-                  }
-              };
-              // On several ranks each colour's moves travel before the
-              // next colour (PointExchange): the serial sweep. A ghost that
-              // moved changed the force on its neighbours here.
-              const auto exchange_colour = [&](const unsigned int c,
-                                               const std::size_t  n_updated) {
-                colour_updates.record(n_updated);
-                moved_ghosts.clear();
-                exchange->exchange(c, &x[0][0], moved_ghosts);
-                for (const unsigned int g : moved_ghosts)
-                  for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
-                    if (mine[other_end[i]])
-                      active.queue(other_end[i]);
-              };
-              colouring->sweep(
-                *current,
-                block_update,
-                exchange ? std::function<void(unsigned int, std::size_t)>(
-                             exchange_colour) :
-                           std::function<void(unsigned int, std::size_t)>());
-              bool any_not_finite =
-                std::find(not_finite.begin(), not_finite.end(), 1) !=
-                not_finite.end();
-              if (exchange)
-                any_not_finite = global_max(any_not_finite) > 0.;
-              for (unsigned int b = 0; b < n_blocks; ++b)
-                {
-                  if (any_not_finite)
-                    throw Error("mass spring: the force on a point became "
-                                "infinite or NaN (a spring of zero length) "
-                                "in sweep " +
-                                std::to_string(sweep) + ".");
-                  blocked_updates += block_blocked[b];
-                  block_blocked[b] = 0;
-                  active.add(block_queued[b]);
-                }
-            }
-
-          // After a load step (no point is pending on any rank): the blocks
-          // shared again by its updates (PointExchange adds each block's
-          // free points, so that blocks it did not reach still spread).
-          if (!block_work.empty() && load_step < n_load_steps)
-            {
-              const auto timed = phase("rebalance");
-              Utilities::MPI::sum(block_work, communicator, block_work);
-              // The same on every rank (block_work is): unchanged ranges
-              // keep the exchange.
-              if (PointExchange::block_ranges(*colouring,
-                                              *mesh,
-                                              Utilities::MPI::n_mpi_processes(
-                                                communicator),
-                                              block_work) != exchange->ranges())
-                {
-                  // Every point's position on every rank: a new ghost's too.
-                  exchange->gather(&x[0][0]);
-                  exchange = std::make_unique<PointExchange>(*colouring,
-                                                             *mesh,
-                                                             communicator,
-                                                             block_work);
-                  mine     = points_to_update(*mesh, exchange.get());
-                  ++rebalances;
-                }
-              std::fill(block_work.begin(), block_work.end(), 0.);
-            }
-        }
-
-      if (exchange)
-        {
-          const auto timed = phase("gather");
+          // Every point's position on every rank: a new ghost's too.
           exchange->gather(&x[0][0]);
-          blocked_updates = global_sum(blocked_updates);
+          exchange = std::make_unique<PointExchange>(*colouring,
+                                                     *mesh,
+                                                     communicator,
+                                                     block_work);
+          sweeps.use_exchange(exchange.get());
+          moved = true;
         }
-      const unsigned long long own_updates = point_updates;
-      point_updates                        = global_sum(point_updates);
-      displacement.reinit(3 * n);
-      for (unsigned int j = 0; j < n; ++j)
-        for (unsigned int c = 0; c < 3; ++c)
-          displacement[3 * j + c] = x[j][c] - rest_position[j][c];
+      std::fill(block_work.begin(), block_work.end(), 0.);
+      return moved;
+    }
 
-      last_report               = Report();
-      last_report.sweeps        = sweep;
-      last_report.load_steps    = n_load_steps;
-      last_report.point_updates = point_updates;
-      double residual           = 0.;
-      for (unsigned int j = 0; j < n; ++j)
-        if (mine[j])
+    void
+    MassSpring::report_solve(const LocalUpdates &updates,
+                             const PointSweeps  &sweeps,
+                             const double        initial,
+                             const unsigned int  n_load_steps,
+                             const unsigned int  rebalances,
+                             const bool          warm)
+    {
+      const std::vector<Point<3>> &x = updates.x;
+      last_report                    = Report();
+      last_report.sweeps             = sweeps.n_sweeps();
+      last_report.load_steps         = n_load_steps;
+      last_report.point_updates      = sweeps.sum(sweeps.n_point_updates());
+      last_report.blocked_updates    = sweeps.sum(sweeps.n_held_back());
+      last_report.rebalances         = rebalances;
+      double residual                = 0.;
+      for (unsigned int j = 0; j < x.size(); ++j)
+        if (sweeps.updates(j))
           {
             double       shortest;
-            Tensor<1, 3> F = force(j, shortest);
+            Tensor<1, 3> F = updates.force(j, shortest);
             // A constrained point: the step it would take under its
             // constraint (what the constraint takes up is no residual).
             if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
               {
-                Tensor<1, 3> step = free_step(j), step_other;
-                if (constrain(j, step, step_other) !=
+                Tensor<1, 3> step = updates.free_step(j), step_other;
+                if (updates.constrain(j, step, step_other) !=
                     numbers::invalid_unsigned_int)
                   step = step.norm() > step_other.norm() ? step : step_other;
                 F = step * total_stiffness[j];
@@ -653,64 +688,55 @@ namespace softface
       if (exchange)
         {
           residual             = Utilities::MPI::sum(residual, communicator);
-          last_report.max_step = global_max(last_report.max_step);
-          add_detail("points per rank (largest)",
-                     Utilities::MPI::max(exchange->n_owned_points(),
-                                         communicator));
-          add_detail("ghost points per rank (largest)",
-                     Utilities::MPI::max(exchange->n_ghost_points(),
-                                         communicator));
-          // The dynamic cut-out works where the motion is, which a static
-          // partition need not split evenly: a colour waits for the rank
-          // with the most updates in it.
-          add_detail("busiest rank's point updates",
-                     Utilities::MPI::max(own_updates, communicator));
-          add_detail("slowest rank's point updates, colour by colour",
-                     colour_updates.slowest_sum(communicator));
+          last_report.max_step = sweeps.max(last_report.max_step);
+          for (const auto &figure : sweeps.rank_figures())
+            add_detail(figure.first, figure.second);
           // The ranges and ghosts above are the last load step's; the next
           // plan starts from them.
           add_detail("load steps that moved blocks between ranks", rebalances);
         }
-      for (const auto &t : tetrahedra)
+      for (const auto &t : mesh->tetrahedra)
         last_report.inverted_tetrahedra +=
           (Tetrahedron::signed_volume({{x[t[0]], x[t[1]], x[t[2]], x[t[3]]}}) <=
            0.);
 
-      last_report.blocked_updates = blocked_updates;
-      last_report.rebalances      = rebalances;
-      set_iterations(sweep);
+      set_iterations(sweeps.n_sweeps());
       set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
       if (warm)
         add_detail("warm start", "from the previous plan");
       add_detail("load steps", n_load_steps);
-      add_detail("point updates", point_updates);
+      add_detail("point updates", last_report.point_updates);
       add_detail("largest pending step", last_report.max_step, "mm");
-      add_detail("blocked updates", blocked_updates);
+      add_detail("blocked updates", last_report.blocked_updates);
       add_detail("inverted tetrahedra", last_report.inverted_tetrahedra);
-      if (!prevent_inversion && last_report.inverted_tetrahedra > 0 &&
-          last_report.max_step <= stop_threshold)
+      check_equilibrium(sweeps.n_sweeps(), n_load_steps);
+    }
+
+    void
+    MassSpring::check_equilibrium(const unsigned int sweeps,
+                                  const unsigned int n_load_steps)
+    {
+      const Report &r = last_report;
+      if (!prevent_inversion && r.inverted_tetrahedra > 0 &&
+          r.max_step <= stop_threshold)
         warn("reached equilibrium with " +
-             std::to_string(last_report.inverted_tetrahedra) +
+             std::to_string(r.inverted_tetrahedra) +
              " inverted tetrahedra (springs flipped over, seed 2.2); the "
              "answer is not physical there.");
-      else if (last_report.inverted_tetrahedra > 0 ||
-               last_report.max_step > stop_threshold)
+      else if (r.inverted_tetrahedra > 0 || r.max_step > stop_threshold)
         {
           std::ostringstream m;
-          m << "mass spring: no equilibrium reached after " << sweep
+          m << "mass spring: no equilibrium reached after " << sweeps
             << " sweeps in " << n_load_steps << " load steps: largest pending "
-            << "step " << last_report.max_step << " mm (threshold "
-            << stop_threshold << " mm), " << last_report.inverted_tetrahedra
-            << " inverted tetrahedra, " << blocked_updates
+            << "step " << r.max_step << " mm (threshold " << stop_threshold
+            << " mm), " << r.inverted_tetrahedra << " inverted tetrahedra, "
+            << r.blocked_updates
             << " updates held back because they would have inverted a "
                "tetrahedron. Springs alone cannot keep tetrahedra from "
                "collapsing under this motion (seed 2.2); refine the mesh or "
                "use another model.";
           throw Error(m.str());
         }
-      // The next plan starts here.
-      last_position   = x;
-      last_prescribed = prescribed;
     }
 
     const std::vector<MassSpring::Spring> &

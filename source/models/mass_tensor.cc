@@ -14,9 +14,11 @@
 #include <softface/fe/constrained_system.h>
 #include <softface/fe/elasticity.h>
 #include <softface/fe/point_block_pattern.h>
-#include <softface/models/active_set.h>
 #include <softface/models/mass_tensor.h>
+#include <softface/models/point_constraints.h>
 #include <softface/models/point_exchange.h>
+#include <softface/models/point_sweeps.h>
+#include <softface/models/stop_distance_check.h>
 
 #include <algorithm>
 #include <cmath>
@@ -292,23 +294,7 @@ namespace softface
               diagonal_inverse[j][3 * r + s] = D_inverse[r][s];
         }
 
-      // Without constraints constraint_of_point stays empty: the sweep's
-      // test of it is then one branch on an empty vector.
-      point_constraints.clear();
-      constraint_of_point.clear();
-      if (scene->has_vertex_constraints())
-        constraint_of_point.assign(n, -1);
-      for (const VertexConstraint &c : scene->effects.vertex_constraints)
-        {
-          const unsigned int a   = scene->vertex_dofs()[c.vertex][0] / 3;
-          const unsigned int b   = c.partner == numbers::invalid_unsigned_int ?
-                                     a :
-                                     scene->vertex_dofs()[c.partner][0] / 3;
-          constraint_of_point[a] = point_constraints.size();
-          constraint_of_point[b] = point_constraints.size();
-          point_constraints.push_back(
-            {a, b, c.normal / c.normal.norm(), c.unilateral});
-        }
+      make_point_constraints(*scene, n, point_constraints, constraint_of_point);
       if (!point_constraints.empty() && !gauss_seidel)
         throw Error("mass tensor: vertex constraints (sliding contact, "
                     "separated lips) need 'Ordering = gauss-seidel'.");
@@ -496,7 +482,7 @@ namespace softface
                                    const double *const        load,
                                    const Vector<double>      &prescribed,
                                    const double               threshold,
-                                   ActiveSet                 &active,
+                                   PointSweeps               &sweeps,
                                    std::vector<unsigned int> &queued) const
     {
       // The local problem's minimiser under the constraint: the
@@ -552,15 +538,322 @@ namespace softface
           step += d * d;
         }
       // Like any point whose step exceeds the threshold.
+      // (With constraints every rank updates every free point.)
       if (use_active_set && step > threshold * threshold)
         {
-          active.queue(other, queued);
-          for (unsigned int i = mesh->row_start[other];
-               i < mesh->row_start[other + 1];
-               ++i)
-            if (mesh->is_free[mesh->neighbour[i]])
-              active.queue(mesh->neighbour[i], queued);
+          sweeps.queue(other, queued);
+          sweeps.queue_neighbours(other, queued);
         }
+    }
+
+    /**
+     * The mass tensor model's part of its sweeps (PointSweeps): seed eq.
+     * 12's local update, relaxed, with each point's gradient over its last
+     * W updates; after each sweep the seed's stop (2.3.3), checked by the
+     * distance left ('Stop distance'), and a row of the precision history.
+     */
+    class MassTensor::LocalUpdates
+    {
+    public:
+      LocalUpdates(const MassTensor     &model,
+                   PointSweeps          &sweeps,
+                   const Vector<double> &prescribed,
+                   Vector<double>       &displacement,
+                   const Vector<double> &converged);
+
+      // Inlined into the sweep's loop over a block's points (GCC would
+      // call it once per point).
+      DEAL_II_ALWAYS_INLINE bool
+      update(const unsigned int         j,
+             SweepTally                &tally,
+             std::vector<unsigned int> &queued)
+      {
+        // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
+        double f0 = 0., f1 = 0., f2 = 0.;
+        if (load != nullptr)
+          {
+            f0 = -load[3 * j];
+            f1 = -load[3 * j + 1];
+            f2 = -load[3 * j + 2];
+          }
+        for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
+          {
+            const double *B  = rows_coupling[i - entry0].data();
+            const double *uk = u + 3 * neighbour[i];
+            f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
+            f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
+            f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
+          }
+        const double *D      = rows_inverse[j - row0].data();
+        double       *uj     = u + 3 * j;
+        double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
+                                -(D[3] * f0 + D[4] * f1 + D[5] * f2),
+                                -(D[6] * f0 + D[7] * f1 + D[8] * f2)};
+        double        wj     = w;
+        if (constrained && model.constraint_of_point[j] >= 0)
+          {
+            model.constrained_update(
+              j, opt, u, load, prescribed, stop_threshold, sweeps, queued);
+            // The constrained minimiser whole: a relaxed step past it could
+            // pass through the constraint.
+            wj = 1.;
+          }
+        const double v[3] = {uj[0] + wj * (opt[0] - uj[0]),
+                             uj[1] + wj * (opt[1] - uj[1]),
+                             uj[2] + wj * (opt[2] - uj[2])};
+        const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
+                                      (v[1] - uj[1]) * (v[1] - uj[1]) +
+                                      (v[2] - uj[2]) * (v[2] - uj[2]));
+        if (!(step <= divergence_bound))
+          {
+            tally.failure = step;
+            return false;
+          }
+        if (gauss_seidel)
+          uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
+        else
+          jacobi_values[j] = {{v[0], v[1], v[2]}};
+
+        // seed 2.3.3: the gradient over the point's last W updates, of the
+        // change eq. 12 asks for (the step divided by the factor): a damped
+        // update (factor below 1) would otherwise stop at once far from the
+        // answer (factor 0.01), and an over-relaxed one would meet a
+        // threshold that means less than the seed's (Table 1).
+        const double change = step / wj;
+        double      &slot =
+          steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
+        step_sum[j] += change - slot;
+        slot               = change;
+        tally.largest_step = std::max(tally.largest_step, step);
+        ++n_updates[j];
+        const bool stopped =
+          n_updates[j] >= W && step_sum[j] / W < stop_threshold;
+        tally.all_stopped &= stopped;
+
+        if (!use_active_set)
+          return true;
+        if (!stopped)
+          sweeps.queue(j, queued);
+        if (step > stop_threshold)
+          sweeps.queue_neighbours(j, queued);
+        return true;
+      }
+
+      /// Jacobi order: the sweep's values at once.
+      void
+      finish_sweep(const std::vector<unsigned int> &points)
+      {
+        if (!gauss_seidel)
+          for (const unsigned int j : points)
+            for (unsigned int c = 0; c < 3; ++c)
+              u[3 * j + c] = jacobi_values[j][c];
+      }
+
+      /// The gradient below which a point stops (mm per sweep).
+      double
+      threshold() const
+      {
+        return stop_threshold;
+      }
+
+      std::string
+      too_many_sweeps(const PointSweeps               &sweeps,
+                      const std::vector<unsigned int> &points) const;
+
+      SweepDecision
+      after_sweep(const PointSweeps &sweeps,
+                  const SweepTally  &tally,
+                  const bool         stop_proposed);
+
+      /// The largest gradient of a point this rank updates (mm per sweep).
+      double
+      largest_gradient() const;
+
+      /// Is a stop that the seed's criterion proposes checked?
+      const bool        verify;
+      StopDistanceCheck stop_check;
+
+    private:
+      /// A row of the precision history. Collective.
+      void
+      record_history(const PointSweeps &sweeps);
+
+      const MassTensor     &model;
+      PointSweeps          &sweeps;
+      const Vector<double> &prescribed;
+      Vector<double>       &displacement;
+      const Vector<double> &converged;
+      double *const         u;
+      /// seed eq. 12's external force f_j (gravity), if the scene has one.
+      const double *const load;
+      // This rank's rows, read in the local update from locals.
+      const unsigned int *const row_start;
+      const unsigned int *const neighbour;
+      const Block *const        rows_coupling;
+      const Block *const        rows_inverse;
+      const std::size_t         entry0;
+      const unsigned int        row0;
+      const bool                gauss_seidel, use_active_set, constrained;
+      const unsigned int        W;
+      const double              w;
+      /// No update of a converging scheme moves a point by more than the
+      /// largest prescribed motion times a generous factor.
+      const double divergence_bound;
+      double       stop_threshold;
+      // Per point: its last W step lengths (a ring), their sum, its count.
+      std::vector<double>                steps;
+      std::vector<double>                step_sum;
+      std::vector<unsigned int>          n_updates;
+      std::vector<std::array<double, 3>> jacobi_values;
+      std::ofstream                      history;
+    };
+
+    MassTensor::LocalUpdates::LocalUpdates(const MassTensor     &model,
+                                           PointSweeps          &sweeps,
+                                           const Vector<double> &prescribed,
+                                           Vector<double>       &displacement,
+                                           const Vector<double> &converged)
+        : verify(model.stop_distance > 0. &&
+                 model.stop_gradient_threshold > 0. &&
+                 std::find(model.mesh->is_free.begin(),
+                           model.mesh->is_free.end(),
+                           true) != model.mesh->is_free.end())
+        , stop_check(model.stop_distance,
+                     model.gradient_window,
+                     model.convergence_tolerance)
+        , model(model)
+        , sweeps(sweeps)
+        , prescribed(prescribed)
+        , displacement(displacement)
+        , converged(converged)
+        , u(displacement.begin())
+        , load(model.scene->has_body_force() ?
+                 model.scene->effects.body_force.begin() :
+                 nullptr)
+        , row_start(model.mesh->row_start.data())
+        , neighbour(model.mesh->neighbour.data())
+        , rows_coupling(model.coupling.data())
+        , rows_inverse(model.diagonal_inverse.data())
+        , entry0(model.first_entry)
+        , row0(model.first_row)
+        , gauss_seidel(model.gauss_seidel)
+        , use_active_set(model.use_active_set)
+        , constrained(!model.constraint_of_point.empty())
+        , W(model.gradient_window)
+        , w(model.relaxation_factor())
+        , divergence_bound(1e3 * (prescribed.linfty_norm() + 1.))
+        , stop_threshold(model.stop_gradient_threshold > 0. ?
+                           model.stop_gradient_threshold :
+                           model.convergence_tolerance)
+        , steps(static_cast<std::size_t>(model.mesh->n_points()) * W, 0.)
+        , step_sum(model.mesh->n_points(), 0.)
+        , n_updates(model.mesh->n_points(), 0)
+    {
+      if (!gauss_seidel)
+        jacobi_values.resize(model.mesh->n_points());
+      // On several MPI ranks rank 0 writes, and the ranks that share the
+      // sweeps all learn whether it could (each throws, or none).
+      const std::string &file = model.precision_history_file;
+      if (file.empty())
+        return;
+      const bool first = Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0;
+      if (first)
+        history.open(file);
+      bool opened = history.is_open() || !first;
+      if (model.exchange)
+        opened = Utilities::MPI::min(int(opened), model.communicator) == 1;
+      if (!opened)
+        throw Error("mass tensor: cannot write 'Precision history file' '" +
+                    file + "'.");
+      if (history.is_open())
+        history << "sweep,precision_max,precision_mean,max_gradient,"
+                   "active_points\n"
+                << std::setprecision(6);
+    }
+
+    std::string
+    MassTensor::LocalUpdates::too_many_sweeps(
+      const PointSweeps               &sweeps,
+      const std::vector<unsigned int> &points) const
+    {
+      double g = 0.;
+      for (const unsigned int j : points)
+        g = std::max(g, step_sum[j] / W);
+      g = sweeps.max(g);
+      std::ostringstream m;
+      m << std::setprecision(3) << "mass tensor: " << model.max_sweeps
+        << " sweeps were not enough; " << sweeps.sum(points.size())
+        << " points are still active, largest gradient " << g
+        << " mm per sweep (threshold " << stop_threshold;
+      if (stop_threshold < model.stop_gradient_threshold)
+        m << ", lowered from " << model.stop_gradient_threshold
+          << " by the stop check";
+      m << ").";
+      return m.str();
+    }
+
+    SweepDecision
+    MassTensor::LocalUpdates::after_sweep(const PointSweeps &sweeps,
+                                          const SweepTally  &tally,
+                                          const bool         stop_proposed)
+    {
+      if (tally.failure > 0.)
+        {
+          std::ostringstream m;
+          m << std::setprecision(3) << "mass tensor ("
+            << (gauss_seidel ? "gauss-seidel" : "jacobi")
+            << "): the local updates diverge (";
+          if (std::isinf(tally.failure))
+            m << "an update became infinite or NaN";
+          else
+            m << "a point moved by " << tally.failure << " mm";
+          m << " in sweep " << sweeps.n_sweeps()
+            << "). Jacobi order does not converge for every mesh and "
+               "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
+               "'Relaxation factor' below 1.";
+          throw Error(m.str());
+        }
+      if (history.is_open() ||
+          (model.exchange && !model.precision_history_file.empty()))
+        record_history(sweeps);
+      stop_check.record(tally.largest_step);
+      // The seed's criterion (2.3.3) proposes the stop.
+      if (!stop_proposed)
+        return SweepDecision::go_on;
+      if (!verify || stop_check.accept(stop_threshold))
+        return SweepDecision::stop;
+      return SweepDecision::sweep_every_point;
+    }
+
+    double
+    MassTensor::LocalUpdates::largest_gradient() const
+    {
+      double gradient = 0.;
+      for (unsigned int j = 0; j < n_updates.size(); ++j)
+        if (sweeps.updates(j) && n_updates[j] > 0)
+          gradient =
+            std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
+      return gradient;
+    }
+
+    void
+    MassTensor::LocalUpdates::record_history(const PointSweeps &sweeps)
+    {
+      // The points active after the sweep.
+      const auto     n_active = sweeps.sum(sweeps.points().size());
+      const double   gradient = sweeps.max(largest_gradient());
+      Vector<double> whole;
+      if (model.exchange)
+        {
+          whole = displacement;
+          model.exchange->gather(whole.begin());
+        }
+      const auto distance = Displacement::free_vertex_difference(
+        *model.scene, model.exchange ? whole : displacement, converged);
+      if (!history.is_open())
+        return;
+      history << sweeps.n_sweeps() << ',' << distance.max << ','
+              << distance.mean << ',' << gradient << ',' << n_active << '\n';
     }
 
     void
@@ -568,53 +861,67 @@ namespace softface
                          Vector<double>       &displacement)
     {
       Assert(scene != nullptr, ExcMessage("MassTensor::setup() first."));
-      const auto        &row_start = mesh->row_start;
-      const auto        &neighbour = mesh->neighbour;
-      const auto        &is_free   = mesh->is_free;
-      const unsigned int n         = mesh->n_points();
-      double             threshold = stop_gradient_threshold > 0. ?
-                                       stop_gradient_threshold :
-                                       convergence_tolerance;
-      const unsigned int W         = gradient_window;
-      const double       w         = relaxation_factor();
-      // The points this rank updates: the free ones, on several MPI ranks
-      // those it owns. Every decision to go on or stop is a global one.
-      const std::vector<char> mine = points_to_update(*mesh, exchange.get());
-      const bool              any_free =
-        std::find(is_free.begin(), is_free.end(), true) != is_free.end();
-      const auto global_sum = [&](const unsigned long long local) {
-        return sum_over_ranks(exchange.get(), local);
-      };
-      const auto global_max = [&](const double local) {
-        return max_over_ranks(exchange.get(), local);
-      };
-
+      const unsigned int n = mesh->n_points();
       displacement.reinit(3 * n);
       for (unsigned int j = 0; j < n; ++j)
-        if (!is_free[j])
+        if (!mesh->is_free[j])
           for (unsigned int c = 0; c < 3; ++c)
             displacement[3 * j + c] = prescribed[3 * j + c];
-      double *const u = displacement.begin();
-      // seed eq. 12's external force f_j (gravity), if the scene has one.
-      const double *const load =
-        scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
-      // No update of a converging scheme moves a point by more than the
-      // largest prescribed motion times a generous factor.
-      const double divergence_bound = 1e3 * (prescribed.linfty_norm() + 1.);
 
-      // Per point: its last W step lengths (a ring), their sum, its count.
-      std::vector<double>       steps(static_cast<std::size_t>(n) * W, 0.);
-      std::vector<double>       step_sum(n, 0.);
-      std::vector<unsigned int> n_updates(n, 0);
+      // The points this rank updates: the free ones, on several MPI ranks
+      // those it owns (PointSweeps).
+      PointSweeps::Settings settings;
+      settings.values       = displacement.begin();
+      settings.max_sweeps   = max_sweeps;
+      settings.active_set   = use_active_set;
+      settings.gauss_seidel = gauss_seidel;
+      PointSweeps sweeps(*mesh, *colouring, exchange.get(), settings, progress);
+      queue_first_sweep(sweeps, displacement.begin());
 
-      // The first sweep visits the free neighbours of join points that move
-      // (every free point without the active set).
-      ActiveSet active(n);
-      for (unsigned int j = 0; j < n; ++j)
-        if (mine[j])
+      // The precision needs the converged answer (the study during the
+      // sweeps, the report at the end). Linear FEM's answer to the plan,
+      // when the run has it, is that answer already (to its solver's
+      // tolerance): not solved again.
+      Vector<double> converged;
+      const bool     reuse = converged_answer != nullptr &&
+                         converged_answer->size() == prescribed.size();
+      if (reuse)
+        converged = *converged_answer;
+      else if (report_precision || !precision_history_file.empty())
+        solve_converged(prescribed, converged);
+
+      LocalUpdates updates(*this, sweeps, prescribed, displacement, converged);
+      Timer        sweep_timer;
+      auto         sweeps_phase = phase("sweeps");
+      sweeps.run(updates);
+      const double sweep_time = sweep_timer.wall_time();
+      sweeps_phase.stop();
+      if (exchange)
+        {
+          const auto timed = phase("gather");
+          exchange->gather(displacement.begin());
+        }
+      report_solve(updates,
+                   sweeps,
+                   sweep_time,
+                   prescribed,
+                   displacement,
+                   converged,
+                   reuse);
+    }
+
+    void
+    MassTensor::queue_first_sweep(PointSweeps        &sweeps,
+                                  const double *const u) const
+    {
+      const auto &row_start = mesh->row_start;
+      const auto &neighbour = mesh->neighbour;
+      const auto &is_free   = mesh->is_free;
+      for (unsigned int j = 0; j < mesh->n_points(); ++j)
+        if (sweeps.updates(j))
           {
             bool touched =
-              !use_active_set || load != nullptr ||
+              !use_active_set || scene->has_body_force() ||
               (!constraint_of_point.empty() && constraint_of_point[j] >= 0);
             for (unsigned int i = row_start[j];
                  i < row_start[j + 1] && !touched;
@@ -626,384 +933,22 @@ namespace softface
                   (u[3 * k] != 0. || u[3 * k + 1] != 0. || u[3 * k + 2] != 0.);
               }
             if (touched)
-              active.queue(j);
+              sweeps.queue(j);
           }
-      const std::vector<unsigned int> all_touched = active.next_sweep();
-      // Every free point: the sweeps that verify a stop visit them all.
-      std::vector<unsigned int> every_free;
-      for (unsigned int j = 0; j < n; ++j)
-        if (mine[j])
-          every_free.push_back(j);
+    }
 
-      // The precision needs the converged answer (the study during the
-      // sweeps, the report at the end).
-      // Linear FEM's answer to the plan, when the run has it, is that
-      // answer already (to its solver's tolerance): not solved again.
-      Vector<double> converged;
-      const bool     reuse = converged_answer != nullptr &&
-                         converged_answer->size() == prescribed.size();
-      if (reuse)
-        converged = *converged_answer;
-      else if (report_precision || !precision_history_file.empty())
-        solve_converged(prescribed, converged);
-      std::ofstream history;
-      // On several MPI ranks rank 0 writes, and the ranks that share the
-      // sweeps all learn whether it could (each throws, or none).
-      if (!precision_history_file.empty())
-        {
-          if (Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) == 0)
-            history.open(precision_history_file);
-          bool opened = history.is_open() ||
-                        Utilities::MPI::this_mpi_process(MPI_COMM_WORLD) != 0;
-          if (exchange)
-            opened = Utilities::MPI::min(int(opened), communicator) == 1;
-          if (!opened)
-            throw Error("mass tensor: cannot write 'Precision history file' '" +
-                        precision_history_file + "'.");
-          if (history.is_open())
-            history << "sweep,precision_max,precision_mean,max_gradient,"
-                       "active_points\n"
-                    << std::setprecision(6);
-        }
-      // Collective on several ranks.
-      const auto record_history = [&](const unsigned int sweep_number,
-                                      const std::size_t  n_active) {
-        double gradient = 0.;
-        for (unsigned int j = 0; j < n; ++j)
-          if (mine[j] && n_updates[j] > 0)
-            gradient =
-              std::max(gradient, step_sum[j] / std::min(n_updates[j], W));
-        gradient = global_max(gradient);
-        Vector<double> whole;
-        if (exchange)
-          {
-            whole = displacement;
-            exchange->gather(whole.begin());
-          }
-        const auto distance =
-          Displacement::free_vertex_difference(*scene,
-                                               exchange ? whole : displacement,
-                                               converged);
-        if (!history.is_open())
-          return;
-        history << sweep_number << ',' << distance.max << ',' << distance.mean
-                << ',' << gradient << ',' << n_active << '\n';
-      };
-
-      std::vector<std::array<double, 3>> jacobi_values;
-      unsigned int                       sweep         = 0;
-      unsigned long long                 point_updates = 0;
-      bool done = global_sum(all_touched.size()) == 0;
-      // Ghost points that moved in an exchange.
-      std::vector<unsigned int> moved_ghosts;
-      // The check of a proposed stop (see "Stop distance"): the largest
-      // change of every sweep since the sweeps last restarted. The rate is
-      // measured over the second half of them: the slow error modes' rate
-      // creeps up over hundreds of sweeps (106k off-centre cube: 0.913 per
-      // ten sweeps at sweep 50, 0.965 at 300, 0.973 at 1500), and a short
-      // window taken when the stop is proposed (a few sweeps over every
-      // point) measured 0.59 and then 0.989 per sweep where the distance
-      // left asked for 0.997, so it promised 0.002 and then 0.09 mm where
-      // 0.40 mm were left.
-      const bool verify =
-        stop_distance > 0. && stop_gradient_threshold > 0. && any_free;
-      std::vector<double>    sweep_changes;
-      constexpr unsigned int max_stop_checks    = 100;
-      bool                   unchecked_stop     = false;
-      std::size_t            restart            = 0;
-      unsigned int           n_verifications    = 0;
-      double                 estimated_distance = 0., contraction_rate = 0.;
-      Timer                  sweep_timer;
-      auto                   sweeps_phase = phase("sweeps");
-      const unsigned int     n_blocks     = colouring->n_blocks();
-      std::vector<double>    block_largest(n_blocks), diverged(n_blocks, 0.);
-      // The ranks' updates colour by colour.
-      ColourUpdates                          colour_updates;
-      std::vector<char>                      block_stopped(n_blocks);
-      std::vector<std::vector<unsigned int>> block_queued(n_blocks);
-      while (!done)
-        {
-          const std::vector<unsigned int> &current =
-            use_active_set ? active.current() : all_touched;
-          if (sweep == max_sweeps)
-            {
-              double g = 0.;
-              for (const unsigned int j : current)
-                g = std::max(g, step_sum[j] / W);
-              g = global_max(g);
-              std::ostringstream m;
-              m << std::setprecision(3) << "mass tensor: " << max_sweeps
-                << " sweeps were not enough; " << global_sum(current.size())
-                << " points are still active, largest gradient " << g
-                << " mm per sweep (threshold " << threshold;
-              if (threshold < stop_gradient_threshold)
-                m << ", lowered from " << stop_gradient_threshold
-                  << " by the stop check";
-              m << ").";
-              throw Error(m.str());
-            }
-          ++sweep;
-          point_updates += current.size();
-          if (sweep % 1000 == 0)
-            {
-              const auto n_active = global_sum(current.size());
-              if (progress != nullptr)
-                *progress << "      sweep " + std::to_string(sweep) + ": " +
-                               std::to_string(n_active) + " active points\n"
-                          << std::flush;
-            }
-          if (!gauss_seidel)
-            jacobi_values.resize(current.size());
-
-          // The blocks of one colour at once (BlockColouring), each over
-          // its points of this sweep in order; the colours in turn.
-          const auto block_update = [&](const unsigned int b,
-                                        const std::size_t  q_begin,
-                                        const std::size_t  q_end) {
-            double                    &largest_change = block_largest[b];
-            std::vector<unsigned int> &queued         = block_queued[b];
-            // This rank's rows, read in the loop below from locals.
-            const Block *const rows_coupling = coupling.data();
-            const Block *const rows_inverse  = diagonal_inverse.data();
-            const std::size_t  entry0        = first_entry;
-            const unsigned int row0          = first_row;
-            largest_change                   = 0.;
-            bool all_stopped                 = true;
-            for (auto q = q_begin; q < q_end; ++q)
-              {
-                const unsigned int j = current[q];
-                // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
-                double f0 = 0., f1 = 0., f2 = 0.;
-                if (load != nullptr)
-                  {
-                    f0 = -load[3 * j];
-                    f1 = -load[3 * j + 1];
-                    f2 = -load[3 * j + 2];
-                  }
-                for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                  {
-                    const double *B  = rows_coupling[i - entry0].data();
-                    const double *uk = u + 3 * neighbour[i];
-                    f0 += B[0] * uk[0] + B[1] * uk[1] + B[2] * uk[2];
-                    f1 += B[3] * uk[0] + B[4] * uk[1] + B[5] * uk[2];
-                    f2 += B[6] * uk[0] + B[7] * uk[1] + B[8] * uk[2];
-                  }
-                const double *D      = rows_inverse[j - row0].data();
-                double       *uj     = u + 3 * j;
-                double        opt[3] = {-(D[0] * f0 + D[1] * f1 + D[2] * f2),
-                                        -(D[3] * f0 + D[4] * f1 + D[5] * f2),
-                                        -(D[6] * f0 + D[7] * f1 + D[8] * f2)};
-                double        wj     = w;
-                if (!constraint_of_point.empty() && constraint_of_point[j] >= 0)
-                  {
-                    constrained_update(
-                      j, opt, u, load, prescribed, threshold, active, queued);
-                    // The constrained minimiser whole: a relaxed step past it
-                    // could pass through the constraint.
-                    wj = 1.;
-                  }
-                const double v[3] = {uj[0] + wj * (opt[0] - uj[0]),
-                                     uj[1] + wj * (opt[1] - uj[1]),
-                                     uj[2] + wj * (opt[2] - uj[2])};
-                const double step = std::sqrt((v[0] - uj[0]) * (v[0] - uj[0]) +
-                                              (v[1] - uj[1]) * (v[1] - uj[1]) +
-                                              (v[2] - uj[2]) * (v[2] - uj[2]));
-                if (!(step <= divergence_bound))
-                  {
-                    // Reported after the sweep (not thrown from a thread).
-                    diverged[b] = step;
-                    return;
-                  }
-                if (gauss_seidel)
-                  uj[0] = v[0], uj[1] = v[1], uj[2] = v[2];
-                else
-                  jacobi_values[q] = {{v[0], v[1], v[2]}};
-
-                // seed 2.3.3: the gradient over the point's last W updates,
-                // of the change eq. 12 asks for (the step divided by the
-                // factor): a damped update (factor below 1) would otherwise
-                // stop at once far from the answer (issue 15: factor 0.01),
-                // and an over-relaxed one would meet a threshold that means
-                // less than the seed's (Table 1).
-                const double change = step / wj;
-                double      &slot =
-                  steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
-                step_sum[j] += change - slot;
-                slot           = change;
-                largest_change = std::max(largest_change, step);
-                ++n_updates[j];
-                const bool stopped =
-                  n_updates[j] >= W && step_sum[j] / W < threshold;
-                all_stopped &= stopped;
-
-                if (!use_active_set)
-                  continue;
-                if (!stopped)
-                  active.queue(j, queued);
-                if (step > threshold)
-                  for (unsigned int i = row_start[j]; i < row_start[j + 1]; ++i)
-                    if (mine[neighbour[i]])
-                      active.queue(neighbour[i], queued);
-              }
-            block_stopped[b] = all_stopped;
-          };
-          bool   all_stopped    = true;
-          double largest_change = 0., largest_divergence = 0.;
-          // On several ranks each colour's values travel before the next
-          // colour (PointExchange): the serial sweep. A ghost that moved by
-          // more than the threshold changed the force on its neighbours
-          // here, as a neighbour's step does in serial.
-          const auto woke = [&]() {
-            if (use_active_set)
-              for (const unsigned int g : moved_ghosts)
-                for (unsigned int i = row_start[g]; i < row_start[g + 1]; ++i)
-                  if (mine[neighbour[i]])
-                    active.queue(neighbour[i]);
-          };
-          const auto exchange_colour = [&](const unsigned int c,
-                                           const std::size_t  n_updated) {
-            colour_updates.record(n_updated);
-            moved_ghosts.clear();
-            exchange->exchange(c, u, threshold, moved_ghosts);
-            woke();
-          };
-          colouring->sweep(current,
-                           block_update,
-                           exchange && gauss_seidel ?
-                             std::function<void(unsigned int, std::size_t)>(
-                               exchange_colour) :
-                             std::function<void(unsigned int, std::size_t)>());
-          // The blocks' results folded into the sweep's.
-          for (unsigned int b = 0; b < n_blocks; ++b)
-            {
-              if (!(diverged[b] == 0.)) // NaN too
-                largest_divergence =
-                  std::isnan(diverged[b]) ?
-                    std::numeric_limits<double>::infinity() :
-                    std::max(largest_divergence, diverged[b]);
-              diverged[b] = 0.;
-              all_stopped &= block_stopped[b];
-              largest_change = std::max(largest_change, block_largest[b]);
-              active.add(block_queued[b]);
-            }
-          if (!gauss_seidel)
-            {
-              for (unsigned int q = 0; q < current.size(); ++q)
-                for (unsigned int c = 0; c < 3; ++c)
-                  u[3 * current[q] + c] = jacobi_values[q][c];
-              if (exchange)
-                {
-                  // No exchange between the colours: the sweep at once.
-                  colour_updates.record(current.size());
-                  moved_ghosts.clear();
-                  exchange->exchange_all(u, threshold, moved_ghosts);
-                  woke();
-                }
-            }
-          bool none_next = false;
-          if (use_active_set)
-            none_next = active.next_sweep().empty();
-          if (exchange)
-            {
-              // One reduction for every global decision of this sweep.
-              std::array<double, 4> local = {{largest_change,
-                                              double(!all_stopped),
-                                              double(!none_next),
-                                              largest_divergence}};
-              Utilities::MPI::max(ArrayView<const double>(local),
-                                  communicator,
-                                  ArrayView<double>(local));
-              largest_change     = local[0];
-              all_stopped        = local[1] == 0.;
-              none_next          = local[2] == 0.;
-              largest_divergence = local[3];
-            }
-          if (largest_divergence > 0.)
-            {
-              std::ostringstream m;
-              m << std::setprecision(3) << "mass tensor ("
-                << (gauss_seidel ? "gauss-seidel" : "jacobi")
-                << "): the local updates diverge (";
-              if (std::isinf(largest_divergence))
-                m << "an update became infinite or NaN";
-              else
-                m << "a point moved by " << largest_divergence << " mm";
-              m << " in sweep " << sweep
-                << "). Jacobi order does not converge for every mesh and "
-                   "Poisson's ratio; use 'Ordering = gauss-seidel' or a "
-                   "'Relaxation factor' below 1.";
-              throw Error(m.str());
-            }
-
-          if (history.is_open() ||
-              (exchange && !precision_history_file.empty()))
-            record_history(sweep, global_sum(current.size()));
-          sweep_changes.push_back(largest_change);
-          // The seed's criterion (2.3.3) proposes the stop.
-          done = use_active_set ? none_next : all_stopped;
-          if (!done || !verify)
-            continue;
-          ++n_verifications;
-          const std::size_t k = sweep_changes.size();
-          if (k - restart >= 4 * W)
-            {
-              // The mean change of the first and the last W sweeps of the
-              // second half of those since the restart; their ratio is
-              // rho to the power of their distance.
-              const std::size_t first = restart + (k - restart) / 2;
-              double            early = 0., late = 0., latest = 0.;
-              for (unsigned int i = 0; i < W; ++i)
-                {
-                  early += sweep_changes[first + i] / W;
-                  late += sweep_changes[k - W + i] / W;
-                  latest = std::max(latest, sweep_changes[k - W + i]);
-                }
-              contraction_rate =
-                early > 0. ? std::pow(late / early, 1. / (k - W - first)) : 0.;
-              // Each further sweep would shrink the change by rho: the
-              // error left is about change * rho / (1 - rho).
-              estimated_distance =
-                contraction_rate < 1. ?
-                  latest * contraction_rate / (1. - contraction_rate) :
-                  std::numeric_limits<double>::infinity();
-              if (estimated_distance <= stop_distance)
-                continue;
-              // The largest change does not shrink (constraints switching,
-              // round-off at a tiny threshold), or the threshold cannot go
-              // lower: no rate to trust, the seed's criterion decides.
-              if (contraction_rate >= 1. ||
-                  threshold <= convergence_tolerance ||
-                  n_verifications > max_stop_checks)
-                {
-                  unchecked_stop = true;
-                  continue;
-                }
-              threshold =
-                std::max(convergence_tolerance,
-                         std::min(0.5 * threshold,
-                                  stop_distance * (1. - contraction_rate) /
-                                    contraction_rate));
-              restart = k;
-            }
-          // Too few sweeps to measure a rate (then each point's window is
-          // still below the threshold and the stop is proposed again after
-          // a sweep), or the threshold was lowered: every point sweeps on.
-          done = false;
-          for (const unsigned int j : every_free)
-            active.queue(j);
-          active.next_sweep();
-        }
-      const double sweep_time = sweep_timer.wall_time();
-      sweeps_phase.stop();
-      if (exchange)
-        {
-          const auto timed = phase("gather");
-          exchange->gather(u);
-        }
-
-      // Residual force on the free points against the force at the start.
-      double residual = 0., initial = 0.;
-      for (unsigned int j = 0; j < n; ++j)
+    double
+    MassTensor::relative_residual(const Vector<double> &prescribed,
+                                  const double *const   u) const
+    {
+      const auto         &row_start = mesh->row_start;
+      const auto         &neighbour = mesh->neighbour;
+      const auto         &is_free   = mesh->is_free;
+      const double *const load =
+        scene->has_body_force() ? scene->effects.body_force.begin() : nullptr;
+      const std::vector<char> mine = points_to_update(*mesh, exchange.get());
+      double                  residual = 0., initial = 0.;
+      for (unsigned int j = 0; j < mesh->n_points(); ++j)
         if (mine[j])
           {
             double r[3] = {0., 0., 0.}, f[3] = {0., 0., 0.};
@@ -1055,64 +1000,60 @@ namespace softface
                 initial += f[a] * f[a];
               }
           }
-
-      const unsigned long long own_updates = point_updates;
       if (exchange)
         {
           std::array<double, 2> sums = {{residual, initial}};
           Utilities::MPI::sum(ArrayView<const double>(sums),
                               communicator,
                               ArrayView<double>(sums));
-          residual      = sums[0];
-          initial       = sums[1];
-          point_updates = global_sum(point_updates);
+          residual = sums[0];
+          initial  = sums[1];
         }
+      return initial > 0. ? std::sqrt(residual / initial) : 0.;
+    }
+
+    void
+    MassTensor::report_solve(const LocalUpdates   &updates,
+                             const PointSweeps    &sweeps,
+                             const double          sweep_time,
+                             const Vector<double> &prescribed,
+                             const Vector<double> &displacement,
+                             const Vector<double> &converged,
+                             const bool            reused_answer)
+    {
+      const double residual =
+        relative_residual(prescribed, displacement.begin());
+      const unsigned long long own_updates   = sweeps.n_point_updates();
+      const unsigned long long point_updates = sweeps.sum(own_updates);
 
       last_report               = Report();
-      last_report.sweeps        = sweep;
+      last_report.sweeps        = sweeps.n_sweeps();
       last_report.point_updates = point_updates;
-      for (unsigned int j = 0; j < n; ++j)
-        if (mine[j] && n_updates[j] > 0)
-          last_report.max_gradient =
-            std::max(last_report.max_gradient,
-                     step_sum[j] / std::min(n_updates[j], W));
-      last_report.max_gradient = global_max(last_report.max_gradient);
+      last_report.max_gradient  = sweeps.max(updates.largest_gradient());
 
-      set_iterations(sweep);
-      set_residual(initial > 0. ? std::sqrt(residual / initial) : 0.);
+      set_iterations(sweeps.n_sweeps());
+      set_residual(residual);
       add_detail("point updates", point_updates);
       // A rank's own: its sweeps' time over the updates it made.
       add_detail("ns per update",
                  own_updates ? 1e9 * sweep_time / own_updates : 0.,
                  "",
                  true);
-      if (exchange)
-        {
-          add_detail("points per rank (largest)",
-                     Utilities::MPI::max(exchange->n_owned_points(),
-                                         communicator));
-          add_detail("ghost points per rank (largest)",
-                     Utilities::MPI::max(exchange->n_ghost_points(),
-                                         communicator));
-          // A colour waits for the rank with the most updates in it: the
-          // busiest rank's share bounds what the ranks gain.
-          add_detail("busiest rank's point updates",
-                     Utilities::MPI::max(own_updates, communicator));
-          add_detail("slowest rank's point updates, colour by colour",
-                     colour_updates.slowest_sum(communicator));
-        }
+      for (const auto &figure : sweeps.rank_figures())
+        add_detail(figure.first, figure.second);
       add_detail("max gradient", last_report.max_gradient, "mm/sweep");
-      if (verify)
+      if (updates.verify)
         {
-          add_detail("stop checks", n_verifications);
-          if (unchecked_stop)
+          const StopDistanceCheck &check = updates.stop_check;
+          add_detail("stop checks", check.n_checks());
+          if (check.unchecked())
             warn("mass tensor: the stop could not be checked (the largest "
                  "change per sweep did not shrink, or the threshold reached "
                  "the convergence tolerance); its distance to the answer is "
                  "not known.");
-          add_detail("contraction rate", contraction_rate);
-          add_detail("estimated distance", estimated_distance, "mm");
-          add_detail("final threshold", threshold, "mm/sweep");
+          add_detail("contraction rate", check.rate());
+          add_detail("estimated distance", check.distance_left(), "mm");
+          add_detail("final threshold", updates.threshold(), "mm/sweep");
         }
       if (report_precision)
         {
@@ -1123,7 +1064,8 @@ namespace softface
           last_report.precision_max  = distance.max;
           last_report.precision_mean = distance.mean;
           add_detail("precision against",
-                     reuse ? "linear fem's answer" : "its own direct solve");
+                     reused_answer ? "linear fem's answer" :
+                                     "its own direct solve");
           add_detail("precision max", distance.max, "mm");
           add_detail("precision mean", distance.mean, "mm");
         }

@@ -3,6 +3,7 @@
 
 #include <softface/core/point_mesh.h>
 #include <softface/models/interface.h>
+#include <softface/models/point_constraints.h>
 
 #include <array>
 #include <memory>
@@ -12,6 +13,7 @@
 namespace softface
 {
   class PointExchange;
+  class PointSweeps;
   struct BlockColouring;
 
   namespace Models
@@ -122,6 +124,34 @@ namespace softface
       // point's spring constants.
       std::vector<unsigned int> spring_of;
       std::vector<double>       total_stiffness;
+      // Vertex constraints (sliding contact, lips) per point: the index of
+      // its constraint in point_constraints, or -1 (make_point_constraints).
+      std::vector<PointConstraint> point_constraints;
+      std::vector<int>             constraint_of_point;
+
+      /// The local updates of a solve and its load steps' stop
+      /// (PointSweeps' model).
+      class LocalUpdates;
+      /// The load steps the join motion needs (and the join points that
+      /// move, into @p updates).
+      unsigned int
+      load_steps(LocalUpdates &updates) const;
+      /// On several MPI ranks, after a load step: the blocks shared again by
+      /// that step's updates. Collective. True if they moved.
+      bool
+      rebalance(PointSweeps &sweeps, std::vector<Point<3>> &x);
+      /// The solve's figures into report(), the statistics and the details.
+      void
+      report_solve(const LocalUpdates &updates,
+                   const PointSweeps  &sweeps,
+                   const double        initial,
+                   const unsigned int  n_load_steps,
+                   const unsigned int  rebalances,
+                   const bool          warm);
+      /// Warn of inverted tetrahedra at equilibrium; throw without one.
+      void
+      check_equilibrium(const unsigned int sweeps,
+                        const unsigned int n_load_steps);
 
       Report last_report;
     };

@@ -9,9 +9,9 @@
 #include <softface/core/point_mesh.h>
 #include <softface/fe/linear_solver.h>
 #include <softface/fe/vertex_constraints.h>
-#include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/interface.h>
+#include <softface/models/point_constraints.h>
 
 #include <array>
 #include <memory>
@@ -21,6 +21,7 @@
 namespace softface
 {
   class PointExchange;
+  class PointSweeps;
 
   namespace Models
   {
@@ -201,13 +202,7 @@ namespace softface
                    std::vector<Block> &coupling_rows,
                    std::vector<Block> &diagonal_rows) const;
       // Vertex constraints (sliding contact, lips) per point: the index of
-      // its constraint in point_constraints, or -1.
-      struct PointConstraint
-      {
-        unsigned int a, b; // points; b = a without a partner
-        Tensor<1, 3> n;
-        bool         unilateral;
-      };
+      // its constraint in point_constraints, or -1 (make_point_constraints).
       std::vector<PointConstraint> point_constraints;
       std::vector<int>             constraint_of_point;
       /// The order of the updates in a sweep, and what may run at once.
@@ -221,7 +216,8 @@ namespace softface
                     const double *const load,
                     double              opt[3]) const;
       /// Move @p opt, point j's minimiser, onto its constraint (and, for a
-      /// pair, the partner point too).
+      /// pair, the partner point too, which wakes its neighbours in
+      /// @p queued if it moved by more than @p threshold).
       void
       constrained_update(const unsigned int         j,
                          double                     opt[3],
@@ -229,8 +225,30 @@ namespace softface
                          const double *const        load,
                          const Vector<double>      &prescribed,
                          const double               threshold,
-                         ActiveSet                 &active,
+                         PointSweeps               &sweeps,
                          std::vector<unsigned int> &queued) const;
+
+      /// Queue the first sweep's points: the free neighbours of join points
+      /// that move (every free point without the active set, or with a
+      /// load or constraints).
+      void
+      queue_first_sweep(PointSweeps &sweeps, const double *const u) const;
+      /// The local updates of a solve and its stop (PointSweeps' model).
+      class LocalUpdates;
+      /// The solve's figures into report(), the statistics and the details.
+      void
+      report_solve(const LocalUpdates   &updates,
+                   const PointSweeps    &sweeps,
+                   const double          sweep_time,
+                   const Vector<double> &prescribed,
+                   const Vector<double> &displacement,
+                   const Vector<double> &converged,
+                   const bool            reused_answer);
+      /// The residual force on the free points relative to the force at
+      /// the start (that of the join points). Collective.
+      double
+      relative_residual(const Vector<double> &prescribed,
+                        const double *const   u) const;
 
       // The converged answer's system, built when first needed.
       SparsityPattern      converged_sparsity;
