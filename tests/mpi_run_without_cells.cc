@@ -21,6 +21,7 @@
 // stops every rank with one message.
 
 #include <deal.II/base/mpi.h>
+#include <deal.II/grid/grid_generator.h>
 
 #include <softface/core/distributed_layout.h>
 #include <softface/core/planning_list.h>
@@ -500,23 +501,31 @@ SOFTFACE_TEST(mpi_run_without_cells)
                   (unsigned int)scene.dofs_are_point_blocks()},
                 comm),
               0);
+  // The effects' rules, which each rank's effects declare: applied to a
+  // tetrahedron of each material id of the mesh and one it lacks (3), they
+  // give every rank rank 0's tissues and body forces.
   std::vector<double> rules;
   for (unsigned int t = 0; t < scene.n_tissues(); ++t)
     rules.insert(rules.end(),
                  {scene.tissue(t).youngs_modulus_pa,
                   scene.tissue(t).poissons_ratio});
-  for (const auto &[id, tissue] : scene.effects.tissue_of_material_id)
-    rules.insert(rules.end(), {double(id), double(tissue)});
-  for (const auto &[id, density] : scene.effects.mass_density_of_material_id)
-    rules.insert(rules.end(), {double(id), density});
-  rules.push_back(scene.effects.mass_density_otherwise);
-  for (unsigned int d = 0; d < 3; ++d)
-    rules.push_back(scene.effects.acceleration[d]);
+  Triangulation<3> probe;
+  GridGenerator::reference_cell(probe, ReferenceCells::Tetrahedron);
+  const auto probe_cell = probe.begin_active();
+  for (const types::material_id id : {1, 2, 3})
+    {
+      probe_cell->set_material_id(id);
+      if (id != 3)
+        rules.push_back(scene.effects.tissue(probe_cell));
+      const Tensor<1, 3> load =
+        scene.effects.body_force_vertex_load(probe_cell);
+      rules.insert(rules.end(), {load[0], load[1], load[2]});
+    }
   check_equal("ranks unlike rank 0: tissues and the effects' rules",
               ranks_unlike_rank_0(rules, comm),
               0);
-  // Two tissues, an id of each rule, a density and the acceleration: the
-  // comparison compared something.
+  // Two tissues, two ids' tissues and three ids' loads: the comparison
+  // compared something.
   check_above("tissues and rules compared (rank 0)", rules.size(), 12);
   check_equal("effects (rank 0)", scene.effects.names.size(), 2);
   check_equal(

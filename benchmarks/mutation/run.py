@@ -21,7 +21,8 @@ stops (the remaining tests cannot change its class). `clang_format` is left out:
 layout of the code, which a mutation may change.
 
 usage: /usr/bin/python3 benchmarks/mutation/run.py [--work DIR] [--jobs N] [--only ID ...]
-                                                   [--results DIR]
+                                                   [--results DIR] [--check]
+--check only checks that each bug's text occurs once in its file (the test mutation_texts).
 Writes DIR/mutation.md, .csv and .png (default doc/results) and the run's log to WORK/log.txt.
 Each bug's outcome is kept in WORK/outcomes/ID.json with a hash of the bug and of every source
 file: run again on the same sources (after an interruption, say), a bug already measured is not
@@ -214,7 +215,23 @@ def main():
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--only", nargs="*", help="run these mutation ids only")
     parser.add_argument("--results", default=os.path.join(REPO, "doc", "results"))
+    parser.add_argument("--check", action="store_true",
+                        help="only check that each bug's text occurs once in its file of this "
+                             "repository (a bug the code has moved away from tests nothing)")
     args = parser.parse_args()
+
+    if args.check:
+        with open(os.path.join(REPO, "benchmarks", "mutation", "mutations.json")) as f:
+            mutations = json.load(f)
+        stale = 0
+        for mutation in mutations:
+            with open(os.path.join(REPO, mutation["file"])) as f:
+                count = f.read().count(mutation["find"])
+            if count != 1:
+                print(f"{mutation['id']}: its text occurs {count} times in {mutation['file']}")
+                stale += 1
+        print(f"{len(mutations)} bugs, {stale} whose text does not occur once")
+        sys.exit(min(stale, 1))
 
     os.makedirs(args.work, exist_ok=True)
     global LOG

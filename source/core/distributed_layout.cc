@@ -17,7 +17,6 @@
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
 #include <softface/core/sub_communicator.h>
-#include <softface/core/tetrahedron.h>
 
 #include <algorithm>
 #include <array>
@@ -669,16 +668,14 @@ namespace softface
       ExcMessage("The ranks disagree on the body force."));
     if (!scene.has_body_force())
       return;
-    // A quarter of each cell's weight on each vertex, as the scene's effect
-    // sums it (Effects::Gravity), over the cells at an owned vertex: its own
-    // and ghost cells, in the scene's order (the part keeps it).
+    // Each cell's vertex load, as the scene sums it (Scene::apply_rules()),
+    // over the cells at an owned vertex: its own and ghost cells, in the
+    // scene's order (the part keeps it).
     Vector<double> local(locally_owned_dofs.n_elements());
     for (const auto &cell : dof_handler.active_cell_iterators())
       if (!cell->is_artificial())
         {
-          const Tensor<1, 3> load = scene.effects.vertex_load(
-            scene.effects.mass_density(cell->material_id()) *
-            Tetrahedron::signed_volume(Tetrahedron::vertices(cell)));
+          const Tensor<1, 3> load = scene.effects.body_force_vertex_load(cell);
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               if (const auto dof = cell->vertex_dof_index(a, i);

@@ -55,18 +55,24 @@ namespace softface
     }
   } // namespace
 
-  unsigned int
-  SceneEffects::tissue_of_material(const types::material_id id) const
+  Tensor<1, 3>
+  SceneEffects::body_force_per_unit_volume(
+    const Triangulation<3>::active_cell_iterator &cell) const
   {
-    if (tissue_of_material_id.empty())
-      return 0;
-    const auto listed = tissue_of_material_id.find(id);
-    // The effect refused a mesh with such an id before any model ran; an
-    // id without a tissue here is softface's mistake, not the input's.
-    AssertThrow(listed != tissue_of_material_id.end(),
-                ExcMessage("Material id " + std::to_string(id) +
-                           " has no tissue in the scene's effects."));
-    return listed->second;
+    Tensor<1, 3> force;
+    for (const auto &rule : body_force_rules)
+      force += rule->per_unit_volume(cell);
+    return force;
+  }
+
+  Tensor<1, 3>
+  SceneEffects::body_force_vertex_load(
+    const Triangulation<3>::active_cell_iterator &cell) const
+  {
+    Tensor<1, 3> force;
+    for (const auto &rule : body_force_rules)
+      force += rule->on_cell(cell);
+    return 0.25 * force;
   }
 
   Scene::Scene()
@@ -234,7 +240,7 @@ namespace softface
                 << n_cells_in_all << n_used << mesh_fingerprint << segments
                 << resolve_shared_join_points << n_shared_join_points
                 << mesh_description << n_joins_of_segment << point_blocks;
-        effects.serialize_rules(archive);
+        effects.serialize_names_and_constraints(archive);
         small = stream.str();
       }
     small        = Utilities::MPI::broadcast(communicator, small, 0);
@@ -252,7 +258,7 @@ namespace softface
             archive >> segments >> resolve_shared_join_points >>
               n_shared_join_points >> mesh_description >> n_joins_of_segment >>
               point_blocks;
-            effects.serialize_rules(archive);
+            effects.serialize_names_and_constraints(archive);
             n_cells_without_cells         = n_cells_in_all;
             n_used_vertices_without_cells = n_used;
             n_dofs_without_cells          = n_dofs_in_all;
@@ -336,6 +342,33 @@ namespace softface
 
     find_join_points();
     check_free_region_connectivity();
+  }
+
+  void
+  Scene::apply_rules()
+  {
+    Assert(holds_cells, ExcMessage("This rank holds no cell of the scene."));
+    effects.tissue_of_cell.clear();
+    if (effects.tissue_rule)
+      {
+        effects.tissue_of_cell.reserve(triangulation.n_active_cells());
+        for (const auto &cell : triangulation.active_cell_iterators())
+          effects.tissue_of_cell.push_back(effects.tissue(cell));
+      }
+    effects.body_force.reinit(0);
+    if (has_body_force())
+      {
+        effects.body_force.reinit(dof_handler.n_dofs());
+        for (const auto &cell : triangulation.active_cell_iterators())
+          {
+            const Tensor<1, 3> load = effects.body_force_vertex_load(cell);
+            for (unsigned int a = 0; a < 4; ++a)
+              for (unsigned int i = 0; i < 3; ++i)
+                effects
+                  .body_force[vertex_dof_indices[cell->vertex_index(a)][i]] +=
+                  load[i];
+          }
+      }
   }
 
   void

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <map>
+#include <memory>
 #include <sstream>
 
 namespace softface
@@ -59,13 +60,15 @@ namespace softface
       void
       parse_parameters(ParameterHandler &prm) override
       {
-        const auto g = parse_vec3(prm.get("Gravity"), "Gravity");
+        const auto   g = parse_vec3(prm.get("Gravity"), "Gravity");
+        Tensor<1, 3> gravity;
         for (unsigned int d = 0; d < 3; ++d)
           gravity[d] = g[d];
-        densities = parse_material_values("Densities", prm.get("Densities"));
+        const auto densities =
+          parse_material_values("Densities", prm.get("Densities"));
         const std::string density_text = prm.get("Density");
         char             *end          = nullptr;
-        density = std::strtod(density_text.c_str(), &end);
+        const double      density = std::strtod(density_text.c_str(), &end);
         if (density_text.empty() || *end != '\0' || !std::isfinite(density))
           throw Error("Density: '" + density_text + "' is not a number.");
         if (density < 0.)
@@ -88,6 +91,12 @@ namespace softface
         if (gravity.norm() > 1000.)
           throw Error("Gravity: |g| = " + Utilities::to_string(gravity.norm()) +
                       " m/s^2 is over 100 g (gravity is in m/s^2).");
+        // kg/m^3 times mm^3 is 1e-9 kg.
+        weight->gravity = gravity;
+        weight->density_of_material_id.clear();
+        for (const auto &[id, rho] : densities)
+          weight->density_of_material_id[id] = rho * 1e-9;
+        weight->density_otherwise = density * 1e-9;
       }
 
       unsigned int
@@ -96,48 +105,62 @@ namespace softface
         return SceneEffects::body_forces;
       }
 
-      std::string
-      apply(Scene &scene) const override
+      void
+      declare_rules(Scene &scene) const override
       {
-        Vector<double> &force = scene.effects.body_force;
-        force.reinit(scene.dof_handler.n_dofs());
-        auto &per_volume = scene.effects.cell_body_force;
-        per_volume.assign(scene.triangulation.n_active_cells(), Tensor<1, 3>());
-        // The rule per material id (a rank's part applies it to its own
-        // cells): kg/m^3 times mm^3 is 1e-9 kg.
-        auto &effects = scene.effects;
-        effects.mass_density_of_material_id.clear();
-        for (const auto &[id, rho] : densities)
-          effects.mass_density_of_material_id[id] = rho * 1e-9;
-        effects.mass_density_otherwise = density * 1e-9;
-        effects.acceleration           = gravity;
+        scene.effects.body_force_rules.push_back(weight);
+      }
 
+    protected:
+      std::string
+      check_and_add(Scene &scene) const override
+      {
         double mass = 0.;
         for (const auto &cell : scene.triangulation.active_cell_iterators())
-          {
-            const double mass_density =
-              effects.mass_density(cell->material_id());
-            const double cell_mass =
-              mass_density *
-              Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
-            mass += cell_mass;
-            // N per mm^3, for models on layouts of their own.
-            per_volume[cell->active_cell_index()] = mass_density * gravity;
-            const Tensor<1, 3> load = effects.vertex_load(cell_mass);
-            for (unsigned int a = 0; a < 4; ++a)
-              for (unsigned int i = 0; i < 3; ++i)
-                force[scene.vertex_dofs()[cell->vertex_index(a)][i]] += load[i];
-          }
+          mass += weight->mass(cell);
         std::ostringstream line;
-        line << "gravity: (" << gravity << ") m/s^2, tissue mass " << mass
-             << " kg, weight " << mass * gravity.norm() << " N";
+        line << "gravity: (" << weight->gravity << ") m/s^2, tissue mass "
+             << mass << " kg, weight " << mass * weight->gravity.norm() << " N";
         return line.str();
       }
 
     private:
-      Tensor<1, 3>                         gravity;
-      double                               density = 1000.;
-      std::map<types::material_id, double> densities;
+      /// The rule: a cell's mass times g.
+      struct Weight : BodyForce
+      {
+        Tensor<1, 3> gravity;
+        /// Mass per unit volume (kg/mm^3) of each listed material id and of
+        /// any other.
+        std::map<types::material_id, double> density_of_material_id;
+        double                               density_otherwise = 0.;
+
+        double
+        mass_density(const types::material_id id) const
+        {
+          const auto listed = density_of_material_id.find(id);
+          return listed != density_of_material_id.end() ? listed->second :
+                                                          density_otherwise;
+        }
+        double
+        mass(const Triangulation<3>::active_cell_iterator &cell) const
+        {
+          return mass_density(cell->material_id()) *
+                 Tetrahedron::signed_volume(Tetrahedron::vertices(cell));
+        }
+        Tensor<1, 3>
+        per_unit_volume(
+          const Triangulation<3>::active_cell_iterator &cell) const override
+        {
+          return mass_density(cell->material_id()) * gravity;
+        }
+        Tensor<1, 3>
+        on_cell(
+          const Triangulation<3>::active_cell_iterator &cell) const override
+        {
+          return mass(cell) * gravity;
+        }
+      };
+      std::shared_ptr<Weight> weight = std::make_shared<Weight>();
     };
 
     SOFTFACE_REGISTER_EFFECT(Gravity,

@@ -11,6 +11,8 @@
 #include <softface/effects/interface.h>
 
 #include <map>
+#include <memory>
+#include <set>
 #include <sstream>
 
 namespace softface
@@ -87,45 +89,44 @@ namespace softface
         return SceneEffects::cell_materials;
       }
 
-      std::string
-      apply(Scene &scene) const override
+      void
+      declare_rules(Scene &scene) const override
       {
-        std::set<types::material_id> bone;
-        for (const auto &segment : scene.segments)
-          bone.insert(segment.material_ids.begin(), segment.material_ids.end());
-
         // Tissue 0 is Scene::material (bone cells); one per listed id.
-        std::vector<Material>                  tissues = {scene.material};
-        std::map<types::material_id, unsigned> index;
+        std::vector<Material> tissues = {scene.material};
+        auto                  rule    = std::make_shared<TissueOfMaterialId>();
+        for (const auto &segment : scene.segments)
+          for (const auto id : segment.material_ids)
+            rule->tissue_of_id[id] = 0;
         for (const auto &[id, E] : youngs_moduli)
           {
             Material tissue          = scene.material;
             tissue.youngs_modulus_pa = E;
             if (poissons_ratios.count(id))
               tissue.poissons_ratio = poissons_ratios.at(id);
-            index[id] = tissues.size();
+            rule->tissue_of_id[id] = tissues.size();
             tissues.push_back(tissue);
           }
+        scene.effects.tissues     = std::move(tissues);
+        scene.effects.tissue_rule = std::move(rule);
+      }
 
-        // The rule per material id (a rank's part applies it to its own
-        // cells), then every cell's tissue by it; the scene takes both once
-        // every cell has one.
-        std::map<types::material_id, unsigned char> rule;
-        for (const auto &id : bone)
-          rule[id] = 0;
-        for (const auto &[id, t] : index)
-          rule[id] = t;
-
-        std::vector<unsigned char>             tissue_of_cell;
-        std::map<types::material_id, unsigned> n_cells;
-        tissue_of_cell.reserve(scene.triangulation.n_active_cells());
+    protected:
+      std::string
+      check_and_add(Scene &scene) const override
+      {
+        std::set<types::material_id> bone;
+        for (const auto &segment : scene.segments)
+          bone.insert(segment.material_ids.begin(), segment.material_ids.end());
+        // The cells of each id: their number, and the first one.
+        std::map<
+          types::material_id,
+          std::pair<unsigned int, Triangulation<3>::active_cell_iterator>>
+          cells_of_id;
         for (const auto &cell : scene.triangulation.active_cell_iterators())
           {
             const auto id = cell->material_id();
-            ++n_cells[id];
-            if (const auto listed = rule.find(id); listed != rule.end())
-              tissue_of_cell.push_back(listed->second);
-            else
+            if (youngs_moduli.count(id) == 0 && bone.count(id) == 0)
               {
                 std::ostringstream m;
                 m << "Effects/heterogeneous tissue: material id " << int(id)
@@ -137,28 +138,50 @@ namespace softface
                      "moduli'.";
                 throw Error(m.str());
               }
+            auto &[count, first] = cells_of_id[id];
+            if (count++ == 0)
+              first = cell;
           }
-        scene.effects.tissues               = std::move(tissues);
-        scene.effects.tissue_of_cell        = std::move(tissue_of_cell);
-        scene.effects.tissue_of_material_id = std::move(rule);
 
         std::ostringstream line;
         line << "heterogeneous tissue:";
-        for (const auto &[id, count] : n_cells)
-          if (index.count(id))
-            line << " id " << int(id) << " E "
-                 << scene.effects.tissues[index.at(id)].youngs_modulus_pa
-                 << " Pa nu "
-                 << scene.effects.tissues[index.at(id)].poissons_ratio << " ("
-                 << count << " cells);";
+        for (const auto &[id, cells] : cells_of_id)
+          if (youngs_moduli.count(id))
+            {
+              const Material &tissue =
+                scene.effects.tissues[scene.effects.tissue(cells.second)];
+              line << " id " << int(id) << " E " << tissue.youngs_modulus_pa
+                   << " Pa nu " << tissue.poissons_ratio << " (" << cells.first
+                   << " cells);";
+            }
           else
-            line << " id " << int(id) << " bone (" << count << " cells);";
+            line << " id " << int(id) << " bone (" << cells.first << " cells);";
         std::string text = line.str();
         text.pop_back();
         return text;
       }
 
     private:
+      /// The rule: the tissue of each listed material id, tissue 0 (bone)
+      /// for the bone segments' ids. The mesh holds no other id
+      /// (check_and_add()).
+      struct TissueOfMaterialId : TissueRule
+      {
+        std::map<types::material_id, unsigned char> tissue_of_id;
+
+        unsigned int
+        tissue(
+          const Triangulation<3>::active_cell_iterator &cell) const override
+        {
+          const auto listed = tissue_of_id.find(cell->material_id());
+          AssertThrow(listed != tissue_of_id.end(),
+                      ExcMessage("Material id " +
+                                 std::to_string(cell->material_id()) +
+                                 " has no tissue in the scene's effects."));
+          return listed->second;
+        }
+      };
+
       std::map<types::material_id, double> youngs_moduli;
       std::map<types::material_id, double> poissons_ratios;
     };

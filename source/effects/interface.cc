@@ -97,6 +97,19 @@ namespace softface
       return {};
     }
 
+    void
+    Interface::declare_rules(Scene &) const
+    {}
+
+    std::string
+    Interface::apply(Scene &scene) const
+    {
+      declare_rules(scene);
+      const std::string line = check_and_add(scene);
+      scene.apply_rules();
+      return line;
+    }
+
     bool
     internal::register_effect(const std::string &name,
                               Registration       registration)

@@ -86,8 +86,9 @@ namespace softface
       std::string
       prepare_mesh(Scene &scene) const override;
 
+    protected:
       std::string
-      apply(Scene &scene) const override;
+      check_and_add(Scene &scene) const override;
 
     private:
       Point<3>     point;
@@ -400,7 +401,7 @@ namespace softface
     }
 
     std::string
-    SeparatedLips::apply(Scene &scene) const
+    SeparatedLips::check_and_add(Scene &scene) const
     {
       if (copies.empty())
         throw Error("Effects/separated lips: the mesh was not cut (internal "

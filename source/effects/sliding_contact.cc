@@ -125,8 +125,9 @@ namespace softface
         return line.str();
       }
 
+    protected:
       std::string
-      apply(Scene &scene) const override
+      check_and_add(Scene &scene) const override
       {
         const unsigned int s = segment_index(scene);
         // Area-weighted normals from bone to tissue: the faces' outward

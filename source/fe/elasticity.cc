@@ -188,31 +188,35 @@ namespace softface
     }
 
     void
-    assemble_body_force(const Mapping<3>                &mapping,
-                        const DoFHandler<3>             &dof_handler,
-                        const Quadrature<3>             &quadrature,
-                        const std::vector<Tensor<1, 3>> &cell_body_force,
-                        Vector<double>                  &forces)
+    assemble_body_force(
+      const Mapping<3>                                       &mapping,
+      const Quadrature<3>                                    &quadrature,
+      const SceneEffects                                     &effects,
+      const std::vector<DoFHandler<3>::active_cell_iterator> &cells,
+      const IndexSet                                         &dofs,
+      Vector<double>                                         &forces)
     {
-      const FiniteElement<3>              &fe = dof_handler.get_fe();
+      if (cells.empty())
+        return;
+      const FiniteElement<3>              &fe = cells.front()->get_fe();
       FEValues<3>                          fe_values(mapping,
                             fe,
                             quadrature,
                             update_values | update_JxW_values);
-      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-      forces.reinit(dof_handler.n_dofs());
-      for (const auto &cell : dof_handler.active_cell_iterators())
+      std::vector<types::global_dof_index> cell_dofs(fe.n_dofs_per_cell());
+      for (const auto &cell : cells)
         {
           fe_values.reinit(cell);
-          cell->get_dof_indices(dofs);
-          const Tensor<1, 3> &b = cell_body_force[cell->active_cell_index()];
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            {
-              const unsigned int c = fe.system_to_component_index(i).first;
-              for (unsigned int q = 0; q < quadrature.size(); ++q)
-                forces[dofs[i]] +=
-                  b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
-            }
+          cell->get_dof_indices(cell_dofs);
+          const Tensor<1, 3> b = effects.body_force_per_unit_volume(cell);
+          for (unsigned int i = 0; i < cell_dofs.size(); ++i)
+            if (dofs.is_element(cell_dofs[i]))
+              {
+                const unsigned int c = fe.system_to_component_index(i).first;
+                for (unsigned int q = 0; q < quadrature.size(); ++q)
+                  forces[cell_dofs[i]] +=
+                    b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
+              }
         }
     }
 

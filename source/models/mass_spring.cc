@@ -179,7 +179,7 @@ namespace softface
      * constraint, halved where it would invert a tetrahedron; a load step
      * ends where the dynamic cut-out leaves no point to move.
      */
-    class MassSpring::LocalUpdates
+    class MassSpring::LocalUpdates : public PointLocalUpdates
     {
     public:
       LocalUpdates(const MassSpring      &model,
@@ -249,16 +249,6 @@ namespace softface
             sweeps.queue_neighbours(partner, queued);
           }
         return true;
-      }
-
-      void
-      finish_sweep(const std::vector<unsigned int> &)
-      {}
-
-      double
-      threshold() const
-      {
-        return stop_threshold;
       }
 
       std::string
@@ -339,12 +329,9 @@ namespace softface
 
       const MassSpring &model;
       PointSweeps      &sweeps;
-      /// External nodal forces (gravity), if the scene has them.
-      const double *const load;
-      const bool          constrained, prevent_inversion;
-      const double        stop_threshold;
-      double              fraction  = 0.; ///< of the motion applied
-      unsigned int        load_step = 0, n_load_steps = 0;
+      const bool        constrained, prevent_inversion;
+      double            fraction  = 0.; ///< of the motion applied
+      unsigned int      load_step = 0, n_load_steps = 0;
     };
 
     MassSpring::LocalUpdates::LocalUpdates(const MassSpring      &model,
@@ -352,17 +339,14 @@ namespace softface
                                            std::vector<Point<3>> &x,
                                            const Vector<double>  &prescribed,
                                            const bool             warm)
-        : x(x)
+        : PointLocalUpdates(*model.scene, model.stop_threshold)
+        , x(x)
         , start(prescribed.size())
         , motion(prescribed)
         , model(model)
         , sweeps(sweeps)
-        , load(model.scene->has_body_force() ?
-                 model.scene->effects.body_force.begin() :
-                 nullptr)
         , constrained(!model.constraint_of_point.empty())
         , prevent_inversion(model.prevent_inversion)
-        , stop_threshold(model.stop_threshold)
     {
       if (warm)
         start = model.last_prescribed;

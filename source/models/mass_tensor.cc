@@ -552,7 +552,7 @@ namespace softface
      * W updates; after each sweep the seed's stop (2.3.3), checked by the
      * distance left ('Stop distance'), and a row of the precision history.
      */
-    class MassTensor::LocalUpdates
+    class MassTensor::LocalUpdates : public PointLocalUpdates
     {
     public:
       LocalUpdates(const MassTensor     &model,
@@ -649,13 +649,6 @@ namespace softface
               u[3 * j + c] = jacobi_values[j][c];
       }
 
-      /// The gradient below which a point stops (mm per sweep).
-      double
-      threshold() const
-      {
-        return stop_threshold;
-      }
-
       std::string
       too_many_sweeps(const PointSweeps               &sweeps,
                       const std::vector<unsigned int> &points) const;
@@ -684,8 +677,6 @@ namespace softface
       Vector<double>       &displacement;
       const Vector<double> &converged;
       double *const         u;
-      /// seed eq. 12's external force f_j (gravity), if the scene has one.
-      const double *const load;
       // This rank's rows, read in the local update from locals.
       const unsigned int *const row_start;
       const unsigned int *const neighbour;
@@ -699,7 +690,6 @@ namespace softface
       /// No update of a converging scheme moves a point by more than the
       /// largest prescribed motion times a generous factor.
       const double divergence_bound;
-      double       stop_threshold;
       // Per point: its last W step lengths (a ring), their sum, its count.
       std::vector<double>                steps;
       std::vector<double>                step_sum;
@@ -713,7 +703,11 @@ namespace softface
                                            const Vector<double> &prescribed,
                                            Vector<double>       &displacement,
                                            const Vector<double> &converged)
-        : verify(model.stop_distance > 0. &&
+        : PointLocalUpdates(*model.scene,
+                            model.stop_gradient_threshold > 0. ?
+                              model.stop_gradient_threshold :
+                              model.convergence_tolerance)
+        , verify(model.stop_distance > 0. &&
                  model.stop_gradient_threshold > 0. &&
                  std::find(model.mesh->is_free.begin(),
                            model.mesh->is_free.end(),
@@ -727,9 +721,6 @@ namespace softface
         , displacement(displacement)
         , converged(converged)
         , u(displacement.begin())
-        , load(model.scene->has_body_force() ?
-                 model.scene->effects.body_force.begin() :
-                 nullptr)
         , row_start(model.mesh->row_start.data())
         , neighbour(model.mesh->neighbour.data())
         , rows_coupling(model.coupling.data())
@@ -742,9 +733,6 @@ namespace softface
         , W(model.gradient_window)
         , w(model.relaxation_factor())
         , divergence_bound(1e3 * (prescribed.linfty_norm() + 1.))
-        , stop_threshold(model.stop_gradient_threshold > 0. ?
-                           model.stop_gradient_threshold :
-                           model.convergence_tolerance)
         , steps(static_cast<std::size_t>(model.mesh->n_points()) * W, 0.)
         , step_sum(model.mesh->n_points(), 0.)
         , n_updates(model.mesh->n_points(), 0)

@@ -223,10 +223,15 @@ namespace softface
       // The body force integrated against this layout's shape functions.
       if (scene->has_body_force())
         {
+          const std::vector<DoFHandler<3>::active_cell_iterator> cells(
+            dof_handler->active_cell_iterators().begin(),
+            dof_handler->active_cell_iterators().end());
+          layout_body_force.reinit(n);
           Elasticity::assemble_body_force(scene->mapping,
-                                          *dof_handler,
                                           QGaussSimplex<3>(3),
-                                          scene->effects.cell_body_force,
+                                          scene->effects,
+                                          cells,
+                                          complete_index_set(n),
                                           layout_body_force);
           body_force = &layout_body_force;
         }
@@ -375,35 +380,16 @@ namespace softface
     void
     ReferenceFEM::assemble_body_force_on_ranks()
     {
-      // The body force against this layout's shape functions, by the scene's
-      // rule per material id (the serial cell_body_force): each rank its own
-      // DoFs' whole loads, from every cell at them, so that the sum over the
-      // ranks adds one number to zeros and is the same on every rank.
-      const unsigned int     n_cell = fe->n_dofs_per_cell();
-      const IndexSet        &owned  = ranks_dofs->locally_owned_dofs();
-      const QGaussSimplex<3> quadrature(3);
-      FEValues<3>            fe_values(scene->mapping,
-                            *fe,
-                            quadrature,
-                            update_values | update_JxW_values);
+      // Each rank its own DoFs' whole loads, from every cell at them, so
+      // that the sum over the ranks adds one number to zeros and is the same
+      // on every rank.
       layout_body_force.reinit(ranks_dofs->n_dofs());
-      for (unsigned int k = 0; k < rank_cells.size(); ++k)
-        {
-          const auto &cell = rank_cells[k];
-          fe_values.reinit(cell);
-          const Tensor<1, 3> b =
-            scene->effects.mass_density(cell->material_id()) *
-            scene->effects.acceleration;
-          for (unsigned int i = 0; i < n_cell; ++i)
-            if (const auto dof = rank_cell_dofs[n_cell * k + i];
-                owned.is_element(dof))
-              {
-                const unsigned int c = fe->system_to_component_index(i).first;
-                for (unsigned int q = 0; q < quadrature.size(); ++q)
-                  layout_body_force[dof] +=
-                    b[c] * fe_values.shape_value(i, q) * fe_values.JxW(q);
-              }
-        }
+      Elasticity::assemble_body_force(scene->mapping,
+                                      QGaussSimplex<3>(3),
+                                      scene->effects,
+                                      rank_cells,
+                                      ranks_dofs->locally_owned_dofs(),
+                                      layout_body_force);
       sum_over_ranks(layout_body_force);
       body_force = &layout_body_force;
     }

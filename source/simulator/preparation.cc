@@ -262,7 +262,13 @@ namespace softface
           {
             scene.share_without_cells(MPI_COMM_WORLD);
             if (!scene.has_cells())
-              plannings.parse_parameters(prm, scene);
+              {
+                plannings.parse_parameters(prm, scene);
+                // The rules per cell, which each rank's effects declare
+                // alike: the layout's part of the mesh applies them.
+                for (const auto &[name, effect] : effects)
+                  effect->declare_rules(scene);
+              }
           }
       }
     catch (const Error &e)

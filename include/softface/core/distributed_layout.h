@@ -178,19 +178,19 @@ namespace softface
     unsigned int
     n_owned_shared_join_points() const;
 
-    /// The tissue of the locally relevant @p cell, decided from its material
-    /// id by the scene's rule (SceneEffects::tissue_of_material()): the
-    /// serial cell's tissue.
+    /// The tissue of the locally relevant @p cell by the effects' rule
+    /// (SceneEffects::tissue()): the serial cell's tissue.
     unsigned int
     tissue_of_cell(const DoFHandler<3>::active_cell_iterator &cell) const
     {
-      return scene.effects.tissue_of_material(cell->material_id());
+      return scene.effects.tissue(cell);
     }
 
     /// The scene's nodal body force (gravity's consistent P1 loads) at the
-    /// DoFs this rank owns, from its own and ghost cells by the scene's
-    /// rule (SceneEffects::mass_density()): the serial loads, cell
-    /// by cell in the serial order. Empty where the scene has no body force.
+    /// DoFs this rank owns, from its own and ghost cells by the effects'
+    /// rules (SceneEffects::body_force_vertex_load()): the serial loads,
+    /// cell by cell in the serial order. Empty where the scene has no body
+    /// force.
     const TrilinosWrappers::MPI::Vector &
     body_force() const
     {

@@ -10,11 +10,13 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/vector.h>
 
+#include <softface/core/cell_rules.h>
 #include <softface/core/material.h>
 #include <softface/core/mesh.h>
 
 #include <array>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <set>
 #include <string>
@@ -123,58 +125,48 @@ namespace softface
     /// What a model must honour to simulate an effect (bit flags).
     enum Contribution : unsigned int
     {
-      none           = 0,
-      cell_materials = 1, ///< tissues per cell (tissues, tissue_of_cell)
-      body_forces    = 2, ///< nodal loads (body_force)
-      free_vertex_constraints = 4 ///< vertex_constraints
+      none                    = 0,
+      cell_materials          = 1, ///< tissues per cell (tissues, tissue_rule)
+      body_forces             = 2, ///< body forces (body_force_rules)
+      free_vertex_constraints = 4  ///< vertex_constraints
     };
 
     /// The names of the effects applied, in the order they were applied.
     std::vector<std::string> names;
-    /// The tissues; tissue_of_cell[c] indexes them (active cell index c).
-    std::vector<Material>      tissues;
-    std::vector<unsigned char> tissue_of_cell;
-    /// Nodal loads in N on the shared layout (the consistent P1 loads of a
-    /// body force), added to every model's equilibrium.
-    Vector<double> body_force;
-    /// The same body force per unit volume (N/mm^3) of every cell (active
-    /// cell index), for a model on a layout of its own to integrate.
-    std::vector<Tensor<1, 3>> cell_body_force;
-    /**
-     * The rules the arrays above come from, per material id, so that a rank
-     * decides the tissue of its cells and the nodal loads of its vertices
-     * from its own part of the mesh (issue 20, DistributedLayout): the
-     * tissue of a cell of each material id (empty: every cell is tissue 0);
-     * the mass per unit volume (kg/mm^3) of each listed id and of any other,
-     * and the acceleration (m/s^2) that makes a cell's mass its weight (N):
-     * the body force.
-     */
-    std::map<types::material_id, unsigned char> tissue_of_material_id;
-    std::map<types::material_id, double>        mass_density_of_material_id;
-    double                                      mass_density_otherwise = 0.;
-    Tensor<1, 3>                                acceleration;
 
-    /// The tissue of a cell of material @p id by the rule above; throws
-    /// for an id the rule lacks (the effect refused such a mesh first).
+    /**
+     * The effects' rules per cell (core/cell_rules.h), declared by each
+     * effect on every MPI rank (Effects::Interface::declare_rules()): the
+     * tissues and which one fills a cell (none: Scene::material in every
+     * cell), and the body forces, summed.
+     */
+    std::vector<Material>                         tissues;
+    std::shared_ptr<const TissueRule>             tissue_rule;
+    std::vector<std::shared_ptr<const BodyForce>> body_force_rules;
+
+    /// The tissue of @p cell by the rule (0 without one).
     unsigned int
-    tissue_of_material(const types::material_id id) const;
-    /// The mass per unit volume (kg/mm^3) of a cell of material @p id.
-    double
-    mass_density(const types::material_id id) const
+    tissue(const Triangulation<3>::active_cell_iterator &cell) const
     {
-      const auto listed = mass_density_of_material_id.find(id);
-      return listed != mass_density_of_material_id.end() ?
-               listed->second :
-               mass_density_otherwise;
+      return tissue_rule ? tissue_rule->tissue(cell) : 0;
     }
-    /// The load (N) on each vertex of a tetrahedron of @p cell_mass (kg):
-    /// a quarter of its weight, the consistent P1 load of a constant body
-    /// force. The scene's effect and each rank's part sum it alike.
+    /// The body forces per unit volume in @p cell (N/mm^3).
     Tensor<1, 3>
-    vertex_load(const double cell_mass) const
-    {
-      return 0.25 * cell_mass * acceleration;
-    }
+    body_force_per_unit_volume(
+      const Triangulation<3>::active_cell_iterator &cell) const;
+    /// The load (N) the body forces put on each vertex of @p cell: a
+    /// quarter of the force on the cell, the consistent P1 load of a force
+    /// constant in it. The scene and each rank's part sum it alike.
+    Tensor<1, 3>
+    body_force_vertex_load(
+      const Triangulation<3>::active_cell_iterator &cell) const;
+
+    /// The rules applied to the scene's whole mesh (Scene::apply_rules()):
+    /// every cell's tissue (active cell index; empty without a tissue rule)
+    /// and the nodal loads in N on the shared layout, added to every
+    /// model's equilibrium (empty without a body force).
+    std::vector<unsigned char> tissue_of_cell;
+    Vector<double>             body_force;
 
     /// Constraints on free vertices (sliding contact, the lips' contact).
     std::vector<VertexConstraint> vertex_constraints;
@@ -187,15 +179,14 @@ namespace softface
       return max_active_set_iterations > 0 ? max_active_set_iterations : 50;
     }
 
-    /// All but the arrays per cell and per DoF, which
-    /// Scene::share_without_cells() leaves out or sends as arrays.
+    /// What Scene::share_without_cells() sends in its archive: neither the
+    /// rules, which each rank's effects declare, nor the arrays per cell
+    /// and per DoF, which it leaves out or sends as arrays.
     template <class Archive>
     void
-    serialize_rules(Archive &archive)
+    serialize_names_and_constraints(Archive &archive)
     {
-      archive &names &tissues &tissue_of_material_id
-        &mass_density_of_material_id &mass_density_otherwise &acceleration
-          &vertex_constraints &max_active_set_iterations;
+      archive &names &vertex_constraints &max_active_set_iterations;
     }
   };
 
@@ -273,7 +264,9 @@ namespace softface
     /**
      * Rank 0's scene to the ranks of @p communicator whose scene has no
      * cells (parse_parameters() without a mesh), once rank 0 has set it up
-     * and applied the effects. Collective; rank 0 must hold the cells.
+     * and applied the effects. Collective; rank 0 must hold the cells. The
+     * effects' rules are not sent: each rank's effects declare them
+     * (Effects::Interface::declare_rules()).
      */
     void
     share_without_cells(const MPI_Comm communicator);
@@ -284,6 +277,16 @@ namespace softface
      */
     void
     setup();
+
+    /**
+     * Apply the effects' rules (SceneEffects::tissue_rule and
+     * body_force_rules) to every cell of the mesh this rank holds:
+     * SceneEffects::tissue_of_cell and the nodal loads body_force. Each
+     * effect calls it once it has declared its rules
+     * (Effects::Interface::apply()).
+     */
+    void
+    apply_rules();
 
     /// Index of the segment called @p name; throws a clear error if unknown.
     unsigned int
@@ -370,7 +373,7 @@ namespace softface
     bool
     has_body_force() const
     {
-      return effects.body_force.size() != 0;
+      return !effects.body_force_rules.empty();
     }
     bool
     has_vertex_constraints() const

@@ -21,8 +21,10 @@ namespace softface
    * its bones (heterogeneous tissue, gravity, ...). A scene names them in
    * "Effects/Effects"; each has a subsection of its own and registers itself
    * in one line (SOFTFACE_REGISTER_EFFECT), like a model. An effect adds
-   * its contribution to the scene (SceneEffects in core/scene.h: tissues per
-   * cell, nodal loads); a model says which contributions it honours, and a
+   * its contribution to the scene (SceneEffects in core/scene.h): rules per
+   * cell (tissues, body forces) that every part of softface applies to its
+   * own cells, and constraints on free vertices; a model says which
+   * contributions it honours, and a
    * scene that calls an effect a selected model cannot simulate stops before
    * any work (check_supported()). Nothing of an effect is built, stored or
    * evaluated when the scene does not name it.
@@ -52,13 +54,35 @@ namespace softface
       contributions() const = 0;
 
       /**
-       * Add the effect to @p scene (after Scene::setup(): the mesh, its
-       * DoFs and join points exist). Throws a clear error if the scene does
-       * not fit the parameters (a material id without parameters). Returns
-       * one line for the log: what the effect added.
+       * Declare the effect's rules per cell in @p scene's effects
+       * (SceneEffects: tissues and tissue_rule, body_force_rules;
+       * core/cell_rules.h), by which every part of softface computes the
+       * effect's contribution to its own cells. Called on every MPI rank,
+       * whether or not it holds the scene's cells, once the segments are
+       * known; reads nothing of the mesh. The default declares none.
+       */
+      virtual void
+      declare_rules(Scene &scene) const;
+
+      /**
+       * Add the effect to @p scene, which holds its cells (after
+       * Scene::setup(): the mesh, its DoFs and join points exist):
+       * declare_rules(), check the mesh and add what needs it whole
+       * (check_and_add()), then apply the rules to every cell
+       * (Scene::apply_rules()). Returns one line for the log.
+       */
+      std::string
+      apply(Scene &scene) const;
+
+    protected:
+      /**
+       * What apply() does with the scene's mesh beyond the rules: throw a
+       * clear error if the mesh does not fit the parameters (a material id
+       * without parameters), add what needs the whole mesh (constraints on
+       * free vertices). Returns one line for the log: what the effect added.
        */
       virtual std::string
-      apply(Scene &scene) const = 0;
+      check_and_add(Scene &scene) const = 0;
     };
 
     /// Names of all registered effects, in alphabetical order.

@@ -94,16 +94,20 @@ namespace softface
                           const PointBlockPattern *pattern = nullptr);
 
     /**
-     * The nodal loads of a body force given per unit volume in each cell
-     * (by active cell index), integrated against the shape functions of
-     * @p dof_handler's element.
+     * The nodal loads of the effects' body forces
+     * (SceneEffects::body_force_per_unit_volume()) on @p cells, integrated
+     * against the shape functions of their DoFHandler's element: added to
+     * @p forces at the DoFs @p dofs holds (a rank its own DoFs, from every
+     * cell at them; the serial model all), cell by cell in the order given.
      */
     void
-    assemble_body_force(const Mapping<3>                &mapping,
-                        const DoFHandler<3>             &dof_handler,
-                        const Quadrature<3>             &quadrature,
-                        const std::vector<Tensor<1, 3>> &cell_body_force,
-                        Vector<double>                  &forces);
+    assemble_body_force(
+      const Mapping<3>                                       &mapping,
+      const Quadrature<3>                                    &quadrature,
+      const SceneEffects                                     &effects,
+      const std::vector<DoFHandler<3>::active_cell_iterator> &cells,
+      const IndexSet                                         &dofs,
+      Vector<double>                                         &forces);
 
     /**
      * One cell's nodal forces and, if @p K_cell is not null, its tangent, by

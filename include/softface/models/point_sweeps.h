@@ -3,6 +3,7 @@
 
 #include <softface/core/error.h>
 #include <softface/core/point_mesh.h>
+#include <softface/core/scene.h>
 #include <softface/models/active_set.h>
 #include <softface/models/block_colouring.h>
 #include <softface/models/point_exchange.h>
@@ -48,6 +49,39 @@ namespace softface
   };
 
   /**
+   * What the local updates of both point models hold alike (a model's
+   * class for PointSweeps derives from it): the scene's nodal body force,
+   * the stop threshold that is also the wake threshold, and nothing to do
+   * after a sweep in Gauss-Seidel order.
+   */
+  class PointLocalUpdates
+  {
+  public:
+    PointLocalUpdates(const Scene &scene, const double stop_threshold)
+        : load(scene.has_body_force() ? scene.effects.body_force.begin() :
+                                        nullptr)
+        , stop_threshold(stop_threshold)
+    {}
+
+    /// The step (mm per sweep) below which a point stops.
+    double
+    threshold() const
+    {
+      return stop_threshold;
+    }
+
+    void
+    finish_sweep(const std::vector<unsigned int> &)
+    {}
+
+  protected:
+    /// The external nodal forces (gravity: SceneEffects::body_force), 3
+    /// per point in the serial numbering; nullptr without a body force.
+    const double *const load;
+    double              stop_threshold;
+  };
+
+  /**
    * The sweeps of a point model (mass tensor, mass spring): Gauss-Seidel
    * (or Jacobi) sweeps of local updates until the model's stop criterion
    * says stop. What the two models share is here once: the order of the
@@ -59,7 +93,8 @@ namespace softface
    * sweep count and its limit, the progress lines and the ranks' figures
    * for the report. A model brings its local update and its decision after
    * each sweep, as a class with these members (called as a template, so
-   * that the local update inlines into the sweep's loop):
+   * that the local update inlines into the sweep's loop; PointLocalUpdates
+   * gives finish_sweep() and threshold()):
    *
    *   // Update point j; queue what its step wakes in @p queued (queue(),
    *   // queue_neighbours()) and add to @p tally. False: the update
