@@ -1,14 +1,20 @@
 #!/usr/bin/python3
-"""Seeded mutation fuzzer for softface's inputs (issue 15): parameter files and meshes.
+"""Seeded mutation fuzzer for softface's inputs (issue 15): parameter files, meshes, CT volumes.
 
     /usr/bin/python3 benchmarks/robustness/fuzz.py [--softface PATH] [--cases N] [--seed S]
         [--timeout SECONDS] [--jobs J] [--out DIR] [--keep DIR] [--strict] [--binary-note TEXT]
         [--ranks R] [--mpiexec PATH]   (Open MPI's mpiexec)
+        [--seeds NAME,NAME,...]
 
 Each case takes one seed (a valid scene: the templates below, with a gmsh 4.1 or
 gmsh 2.2, legacy VTK or .vtu mesh, or the parameter file itself), applies one to three
 mutations (truncation, byte flips, a line moved, deleted or repeated, a number swapped for an
-extreme one) and runs softface on it with a time limit. Outcomes:
+extreme one) and runs softface on it with a time limit. On one rank a CT volume is a seed too:
+the phantom's CT at 4 mm (written by `softface phantom` at the start), run through `softface
+segment`, with its own mutations (voxel data cut short inside an intact gzip stream, the .gz
+file cut, NaN and infinite voxels, voxel size, size, data offset, data type or origin in the
+NIfTI header replaced by an absurd value, header bytes overwritten, stored uncompressed).
+--seeds NAME,NAME,... runs only the seeds named (e.g. "nifti ct"). Outcomes:
 
     ok         exit 0 and no nan/inf in summary.csv or the displacement outputs
     refused    exit 1 with softface's one-line message ("softface: error: ...")
@@ -28,12 +34,16 @@ counts by seed and outcome, and keeps every input that did not end ok or refused
 (default /tmp/softface_fuzz_kept) to reproduce it. Standard library only (matplotlib for the
 plot if present). Exit code 0 unless --strict and a crash, hang, nan or unclear case occurred.
 """
+import array
 import csv
+import gzip
+import math
 import os
 import random
 import re
 import shutil
 import signal
+import struct
 import subprocess
 import sys
 import tempfile
@@ -133,6 +143,109 @@ NUMBERS = ["0", "-1", "1e308", "-1e308", "4294967296", "2147483648", "-214748364
            "inf", "1e-300", "0.5", "99999999999", "3", "7", ""]
 NUMBER = re.compile(rb"-?\d+(?:\.\d*)?(?:[eE][+-]?\d+)?")
 
+# The CT seed: a patient scene reading a volume, run through `softface segment` (the CT and
+# segmentation stages: what reads the volume, and what a silently wrong volume would mislead).
+SCENE_CT = """subsection Scene
+  set Mesh source   = patient
+  set Bone segments = cranium
+  subsection Segment cranium
+    set Seed point = 0, -40, 30
+  end
+  subsection Patient
+    set CT volume = {mesh}
+  end
+end
+"""
+# The phantom whose CT is the seed: 4 mm voxels, so that a case runs in a few seconds.
+SCENE_PHANTOM = """subsection Scene
+  set Mesh source   = patient
+  set Bone segments = cranium
+  subsection Segment cranium
+    set Seed point = 0, -40, 30
+  end
+  subsection Patient
+    subsection Phantom
+      set Voxel size = 4
+    end
+  end
+end
+subsection Output
+  set Output directory = out
+end
+"""
+CT_SEED = "nifti ct"
+VOLUME_KINDS = ("cut voxels", "cut voxels", "cut file", "nan voxels", "nan voxels", "voxel size",
+                "voxel size", "size", "size", "data offset", "data type", "origin",
+                "header bytes", "uncompressed")
+ABSURD_FLOATS = [0.0, -1.0, math.nan, math.inf, -math.inf, 1e6, 1e-30, 150.0, 3.4e38]
+
+
+def make_ct_seed(softface, timeout):
+    """The phantom's CT as an uncompressed NIfTI-1 file (bytes), written by softface itself."""
+    work = tempfile.mkdtemp(prefix="softface_fuzz_ct_")
+    try:
+        with open(os.path.join(work, "phantom.prm"), "w") as f:
+            f.write(SCENE_PHANTOM)
+        subprocess.run([softface, "phantom", "phantom.prm"], cwd=work, check=True,
+                       stdout=subprocess.DEVNULL, timeout=timeout * 5)
+        with gzip.open(os.path.join(work, "out", "patient", "ct.nii.gz")) as f:
+            return f.read()
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+
+
+def mutate_volume(nii, rng):
+    """One or two mutations of an uncompressed little-endian NIfTI-1 file (header 348 bytes,
+    voxels from vox_offset); returns (file name, bytes as written, description)."""
+    data = bytearray(nii)
+    done, compressed, cut_file = [], True, False
+    offset = int(struct.unpack_from("<f", data, 108)[0])
+    for _ in range(rng.choice((1, 1, 2))):
+        kind = rng.choice(VOLUME_KINDS)
+        if kind == "cut voxels":        # an intact gzip stream of fewer voxels
+            data = data[:rng.randrange(offset, len(data))]
+        elif kind == "cut file":        # the .gz itself cut short
+            cut_file = True
+        elif kind == "nan voxels":
+            datatype = struct.unpack_from("<h", data, 70)[0]
+            if datatype == 4:           # int16 to float32, the header saying so
+                voxels = array.array("h", bytes(data[offset:offset + (len(data) - offset) // 2 * 2]))
+                voxels = array.array("f", (float(v) for v in voxels))
+                struct.pack_into("<hh", data, 70, 16, 32)
+                data = data[:offset] + bytearray(voxels.tobytes())
+            if struct.unpack_from("<h", data, 70)[0] == 16:
+                n = (len(data) - offset) // 4
+                for _ in range(rng.randint(1, 20)):
+                    if n > 0:
+                        struct.pack_into("<f", data, offset + 4 * rng.randrange(n),
+                                         rng.choice((math.nan, math.inf, -math.inf)))
+        elif kind == "voxel size":
+            struct.pack_into("<f", data, 76 + 4 * rng.randint(1, 3), rng.choice(ABSURD_FLOATS))
+        elif kind == "size":
+            axis = rng.randint(1, 3)
+            n = struct.unpack_from("<h", data, 40 + 2 * axis)[0]
+            struct.pack_into("<h", data, 40 + 2 * axis,
+                             rng.choice((0, -1, 1, 2, n - 1, n + 1, 2 * n, 2048, 32767)))
+        elif kind == "data offset":
+            struct.pack_into("<f", data, 108, rng.choice((0.0, 100.0, 348.0, 356.0, 1e9,
+                                                          math.nan, -1.0)))
+        elif kind == "data type":
+            struct.pack_into("<h", data, 70, rng.choice((0, 1, 2, 8, 16, 64, 128, 256, 512,
+                                                         768, 1024, 2048, 32767)))
+        elif kind == "origin":
+            struct.pack_into("<f", data, rng.choice((256, 260, 264, 268, 272, 276, 280, 296)),
+                             rng.choice(ABSURD_FLOATS))
+        elif kind == "header bytes":
+            for _ in range(rng.randint(1, 4)):
+                data[rng.randrange(348)] = rng.randrange(256)
+        elif kind == "uncompressed":
+            compressed = False
+        done.append(kind)
+    out = gzip.compress(bytes(data), mtime=0) if compressed else bytes(data)
+    if cut_file:
+        out = out[:rng.randrange(1, len(out))]
+    return ("ct.nii.gz" if compressed else "ct.nii"), out, "+".join(done)
+
 
 def mutate(data, rng):
     """One to three mutations of bytes; returns (data, description)."""
@@ -173,6 +286,7 @@ def run_case(case, softface, timeout, keep, launcher):
     try:
         seed_name, mesh_file, scene = case["seed"], case["mesh"], case["scene"]
         out = os.path.join(work, "out")
+        mesh_file = case.get("file", mesh_file)
         prm_text = scene.format(mesh=os.path.basename(mesh_file) if mesh_file else "") + \
             OUTPUT.format(out=out)
         if mesh_file:
@@ -186,7 +300,8 @@ def run_case(case, softface, timeout, keep, launcher):
                 f.write(case["data"] + b"\n" + OUTPUT.format(out=out).encode())
         t0 = time.time()
         # A session of its own, so that at the time limit every process it started can be found.
-        proc = subprocess.Popen(launcher + [softface, "scene.prm"], cwd=work,
+        proc = subprocess.Popen(launcher + [softface] + case.get("command", []) + ["scene.prm"],
+                                cwd=work,
                                 stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                 start_new_session=True)
         try:
@@ -270,7 +385,8 @@ def main(argv):
     opts = {"--softface": os.path.join(ROOT, "build", "softface"), "--cases": "300",
             "--seed": "1", "--timeout": "30", "--jobs": "2",
             "--out": os.path.join(ROOT, "doc", "results"), "--keep": "/tmp/softface_fuzz_kept",
-            "--strict": None, "--binary-note": None, "--ranks": "1", "--mpiexec": "mpiexec"}
+            "--strict": None, "--binary-note": None, "--ranks": "1", "--mpiexec": "mpiexec",
+            "--seeds": None}
     it = iter(argv[1:])
     for a in it:
         if a == "--strict":
@@ -292,21 +408,42 @@ def main(argv):
             os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
             os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
     rng = random.Random(int(opts["--seed"]))
+    wanted = None if opts["--seeds"] is None else opts["--seeds"].split(",")
+    all_seeds = list(SEED_FILES) + ([CT_SEED] if ranks == 1 else [])
+    if wanted and any(w not in all_seeds for w in wanted):
+        sys.exit("fuzz.py: --seeds: the seeds are %s" % ", ".join(all_seeds))
     seeds = {}
     for name, (mesh, scene) in SEED_FILES.items():
+        if wanted and name not in wanted:
+            continue
         path = mesh if mesh is None or os.path.isabs(mesh) else os.path.join(SEEDS, mesh)
         data = open(path, "rb").read() if path else scene.encode()
         seeds[name] = (path, scene, data)
+    # The stages that read a CT run on one rank only (softface refuses more).
+    if ranks == 1 and (not wanted or CT_SEED in wanted):
+        seeds[CT_SEED] = ("ct.nii.gz", SCENE_CT, make_ct_seed(softface, float(opts["--timeout"])))
+
+    def case_of(i, name, data, how):
+        case = {"index": i, "seed": name, "mesh": seeds[name][0], "scene": seeds[name][1],
+                "data": data, "mutation": how}
+        if name == CT_SEED:
+            if how.startswith("none"):
+                case["data"] = gzip.compress(data, mtime=0)
+            else:
+                case["file"], case["data"], case["mutation"] = mutate_volume(data, rng)
+            case["command"] = ["segment"]
+        return case
+
     # The seeds unchanged first: each must run (else the fuzzer tests nothing).
-    cases = [{"index": i, "seed": name, "mesh": seeds[name][0], "scene": seeds[name][1],
-              "data": seeds[name][2], "mutation": "none (the seed)"}
-             for i, name in enumerate(seeds)]
+    cases = [case_of(i, name, seeds[name][2], "none (the seed)") for i, name in enumerate(seeds)]
     names = list(seeds)
     for i in range(len(cases), int(opts["--cases"])):
         name = names[i % len(names)]
-        data, how = mutate(seeds[name][2], rng)
-        cases.append({"index": i, "seed": name, "mesh": seeds[name][0],
-                      "scene": seeds[name][1], "data": data, "mutation": how})
+        if name == CT_SEED:
+            cases.append(case_of(i, name, seeds[name][2], "volume"))
+        else:
+            data, how = mutate(seeds[name][2], rng)
+            cases.append(case_of(i, name, data, how))
     keep = opts["--keep"]
     if keep:
         os.makedirs(keep, exist_ok=True)
