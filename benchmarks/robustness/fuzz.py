@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Seeded mutation fuzzer for softface's inputs (issue 15): parameter files, meshes, CT volumes.
+"""Seeded mutation fuzzer for softface's inputs: parameter files, meshes, CT volumes.
 
     /usr/bin/python3 benchmarks/robustness/fuzz.py [--softface PATH] [--cases N] [--seed S]
         [--timeout SECONDS] [--jobs J] [--out DIR] [--keep DIR] [--strict] [--binary-note TEXT]
@@ -23,7 +23,7 @@ NIfTI header replaced by an absurd value, header bytes overwritten, stored uncom
     crash      killed by a signal (SIGSEGV, SIGABRT, ...)
     hang       still running at the time limit
 
-With --ranks R (more than 1) each case runs as `mpiexec -n R softface scene.prm` (issue 20: an
+With --ranks R (more than 1) each case runs as `mpiexec -n R softface scene.prm` (an
 error on any rank must end every rank with one message): *refused* then also asks that the
 `softface: error` line come exactly once; two or more are *unclear*, and a rank killed by a
 signal (Open MPI's "exited on signal") is a *crash*. At the time limit mpiexec is asked to end
@@ -480,7 +480,7 @@ def write_results(opts, rows, seconds, softface):
     seeds = list(dict.fromkeys(r["seed"] for r in rows))
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
-    md = ["# Robustness: softface on mutated inputs (issue 15)", "",
+    md = ["# Robustness: softface on mutated inputs", "",
           "Made by `/usr/bin/python3 benchmarks/robustness/fuzz.py --cases %s --seed %s "
           "--timeout %s --jobs %s%s` at %s (repository at %s; %s), %d cases in %.0f s." % (
               opts["--cases"], opts["--seed"], opts["--timeout"], opts["--jobs"],

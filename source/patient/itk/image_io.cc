@@ -61,9 +61,13 @@ namespace softface
 
       // ITK reads a truncated or damaged .gz as a volume padded with
       // zeros; gzip's own checks (length and CRC) refuse it. Returns the
-      // number of bytes the stream decompresses to.
+      // number of bytes the stream decompresses to, or, once past @p limit
+      // (what the header declares), a number past it without reading on:
+      // a stream that inflates far beyond its header (a gzip bomb) costs
+      // no more than the volume it claims to be.
       std::uint64_t
-      check_gzip(const std::string &filename)
+      check_gzip(const std::string  &filename,
+                 const std::uint64_t limit = std::uint64_t(-1))
       {
         gzFile file = gzopen(filename.c_str(), "rb");
         if (file == nullptr)
@@ -72,7 +76,11 @@ namespace softface
         std::uint64_t     length = 0;
         int               n;
         while ((n = gzread(file, buffer.data(), buffer.size())) > 0)
-          length += n;
+          if ((length += n) > limit)
+            {
+              gzclose_r(file);
+              return length;
+            }
         int               code    = Z_OK;
         const std::string message = gzerror(file, &code);
         const int         closed  = gzclose_r(file);
@@ -559,8 +567,19 @@ namespace softface
               throw Error("no such file");
             std::uint64_t stream_bytes = 0;
             const bool    gz           = ends_with(filename, ".gz");
+            // Whether the count of a stream stopped past what its header
+            // declares (check_gzip()): it holds at least that much.
+            bool stream_cut = false;
             if (gz)
-              stream_bytes = check_gzip(filename);
+              {
+                std::uint64_t limit = std::uint64_t(-1);
+                if (ends_with(filename, ".nii.gz"))
+                  if (const Payload header = check_nifti(filename, 0);
+                      header.declared >= 0)
+                    limit = header.offset + header.declared;
+                stream_bytes = check_gzip(filename, limit);
+                stream_cut   = stream_bytes > limit;
+              }
             else if (std::filesystem::is_regular_file(filename))
               stream_bytes = std::filesystem::file_size(filename);
             auto io = itk::ImageIOFactory::CreateImageIO(
@@ -602,7 +621,9 @@ namespace softface
             // header declares means a wrong size or data type in the header,
             // which ITK would read as a sheared or garbled volume.
             if (payload.exact && payload.held > payload.declared)
-              throw Error("it holds " + std::to_string(payload.held) +
+              throw Error(std::string("it holds ") +
+                          (stream_cut ? "at least " : "") +
+                          std::to_string(payload.held) +
                           " bytes of voxel data where its header declares " +
                           std::to_string(payload.declared) + " (" +
                           std::to_string(io->GetDimensions(0)) + " x " +
