@@ -1,4 +1,4 @@
-// The detached margins of an osteotomy (seed 3.2; issue 14's setbacks): a
+// The detached margins of an osteotomy (seed 3.2; the setbacks' splits): a
 // bone bar along y cut by two frontal planes, one with the osteotomy's
 // margin (3 mm) and one with a margin of its own (8 mm, as a setback's
 // sagittal splits get). Bone within a cut's margin, and only there, is

@@ -55,12 +55,25 @@ namespace softface
       }
     } // namespace
 
-    double
-    Cut::distance(const Vec3 &x) const
+    bool
+    Cut::in_box(const Vec3 &x) const
     {
       for (unsigned int d = 0; d < 3; ++d)
         if (x[d] < box_min[d] || x[d] > box_max[d])
-          return std::numeric_limits<double>::infinity();
+          return false;
+      return true;
+    }
+
+    double
+    Cut::distance(const Vec3 &x) const
+    {
+      return in_box(x) ? surface_distance(x) :
+                         std::numeric_limits<double>::infinity();
+    }
+
+    double
+    Cut::surface_distance(const Vec3 &x) const
+    {
       if (type == "plane")
         return std::abs(dot(sub(x, point), normal));
       // A polyline swept along the sweep direction, as far as the box goes:
@@ -119,6 +132,17 @@ namespace softface
           }
       }
 
+      // A kerf narrower than a voxel may fall between two layers of voxel
+      // centres and separate nothing: it is at least one voxel wide.
+      double
+      voxel_kerf(const LabelVolume &labels, const OsteotomyParameters &prm)
+      {
+        return std::max(prm.kerf,
+                        1.01 * std::max({labels.spacing[0],
+                                         labels.spacing[1],
+                                         labels.spacing[2]}));
+      }
+
       BoneState
       mark_kerfs(const LabelVolume         &labels,
                  const std::uint8_t         bone_label,
@@ -126,12 +150,7 @@ namespace softface
       {
         const std::size_t n    = labels.n_voxels();
         const auto       &size = labels.size;
-        // A kerf narrower than a voxel may fall between two layers of voxel
-        // centres and separate nothing: it is at least one voxel wide.
-        const double kerf = std::max(prm.kerf,
-                                     1.01 * std::max({labels.spacing[0],
-                                                      labels.spacing[1],
-                                                      labels.spacing[2]}));
+        const double      kerf = voxel_kerf(labels, prm);
         // Bone outside the kerfs: what the cuts leave connected.
         BoneState bone;
         auto     &state    = bone.state;
@@ -198,13 +217,119 @@ namespace softface
         return pieces;
       }
 
+      // Distance from @p x to the cut's box (0 inside).
+      double
+      distance_to_box(const Cut &cut, const Vec3 &x)
+      {
+        double squared = 0.;
+        for (unsigned int d = 0; d < 3; ++d)
+          {
+            const double out =
+              std::max({cut.box_min[d] - x[d], x[d] - cut.box_max[d], 0.});
+            squared += out * out;
+          }
+        return std::sqrt(squared);
+      }
+
+      // Why two segments share a piece: the shortest way through the uncut
+      // bone from voxel @p from to voxel @p to, and where it passes a cut's
+      // surface beyond the cut's box (a box that ends short of the bone
+      // leaves a bridge there; one that fits the bone at one voxel size may
+      // miss a sliver of it at another). Each passage is given to the cut
+      // whose box is nearest.
+      std::string
+      describe_bridges(const LabelVolume               &labels,
+                       const std::vector<std::uint8_t> &state,
+                       const std::size_t                from,
+                       const std::size_t                to,
+                       const OsteotomyParameters       &prm)
+      {
+        const std::size_t  n         = labels.n_voxels();
+        const auto        &size      = labels.size;
+        const std::uint8_t unvisited = 255;
+        // How each voxel was reached: the direction of the step (0-5).
+        std::vector<std::uint8_t> step(n, unvisited);
+        const long stride[3] = {1, long(size[0]), long(size[0] * size[1])};
+        std::deque<std::size_t> queue{from};
+        step[from] = 6;
+        while (!queue.empty() && step[to] == unvisited)
+          {
+            const std::size_t u = queue.front();
+            queue.pop_front();
+            const std::size_t c[3] = {u % size[0],
+                                      (u / size[0]) % size[1],
+                                      u / (size[0] * size[1])};
+            for (unsigned int d = 0; d < 3; ++d)
+              for (const int sign : {-1, 1})
+                {
+                  if ((sign < 0 && c[d] == 0) ||
+                      (sign > 0 && c[d] + 1 == size[d]))
+                    continue;
+                  const std::size_t w = u + sign * stride[d];
+                  if (state[w] == 1 && step[w] == unvisited)
+                    {
+                      step[w] = 2 * d + (sign > 0);
+                      queue.push_back(w);
+                    }
+                }
+          }
+        if (step[to] == unvisited)
+          return "";
+
+        const double kerf  = voxel_kerf(labels, prm);
+        const auto   point = [&](const std::size_t v) {
+          return labels.point(v % size[0],
+                              (v / size[0]) % size[1],
+                              v / (size[0] * size[1]));
+        };
+        // The cut whose surface (beyond its box) voxel v lies on, if any.
+        const auto passed = [&](const std::size_t v) -> int {
+          const Vec3 x    = point(v);
+          int        cut  = -1;
+          double     best = std::numeric_limits<double>::infinity();
+          for (unsigned int c = 0; c < prm.cuts.size(); ++c)
+            if (prm.cuts[c].surface_distance(x) < 0.5 * kerf &&
+                distance_to_box(prm.cuts[c], x) < best)
+              best = distance_to_box(prm.cuts[c], x), cut = c;
+          return cut;
+        };
+        const auto tenth = [](const double x) {
+          return std::round(10. * x) / 10.;
+        };
+        std::ostringstream s;
+        s << " The bone joins them";
+        int          previous = -1;
+        unsigned int passages = 0;
+        for (std::size_t v = to; step[v] != 6;)
+          {
+            const int cut = passed(v);
+            if (cut >= 0 && cut != previous)
+              {
+                const Vec3 x = point(v);
+                s << (passages++ ? "; " : ": ") << "across cut '"
+                  << prm.cuts[cut].name << "' at (" << tenth(x[0]) << ", "
+                  << tenth(x[1]) << ", " << tenth(x[2]) << "), "
+                  << tenth(distance_to_box(prm.cuts[cut], x))
+                  << " mm beyond its box";
+              }
+            previous             = cut;
+            const unsigned int d = step[v] / 2;
+            v = (step[v] % 2) ? v - stride[d] : v + stride[d];
+          }
+        if (passages == 0)
+          return " The bone joins them around every cut's surface.";
+        s << ". Enlarge the box to hold the bone there.";
+        return s.str();
+      }
+
       // Each segment's piece: the one at its seed, or the nearest bone
       // within 5 mm; every large piece must belong to a segment.
       std::map<int, unsigned int>
-      assign_segments(const LabelVolume              &labels,
-                      const Pieces                   &pieces,
-                      const OsteotomyParameters      &prm,
-                      const std::vector<SegmentSeed> &segments)
+      assign_segments(const LabelVolume               &labels,
+                      const std::vector<std::uint8_t> &state,
+                      const Pieces                    &pieces,
+                      const OsteotomyParameters       &prm,
+                      const std::vector<SegmentSeed>  &segments)
       {
         const auto &size          = labels.size;
         const auto &piece         = pieces.piece;
@@ -220,6 +345,7 @@ namespace softface
           return s.str();
         };
         std::map<int, unsigned int> segment_of_piece;
+        std::vector<std::size_t>    seed_voxel(segments.size());
         for (unsigned int s = 0; s < segments.size(); ++s)
           {
             const Vec3 &seed  = segments[s].point;
@@ -245,7 +371,7 @@ namespace softface
                     const Vec3   x = labels.point(i, j, k);
                     const double d = std::sqrt(dot(sub(x, seed), sub(x, seed)));
                     if (d < best)
-                      best = d, found = piece[v];
+                      best = d, found = piece[v], seed_voxel[s] = v;
                   }
             if (found < 0)
               {
@@ -261,7 +387,12 @@ namespace softface
                 "Osteotomy: segments '" + segments[taken->second].name +
                 "' and '" + segments[s].name +
                 "' lie in one bone part: no cut separates them (check "
-                "the cuts' positions and boxes, or the kerf).");
+                "the cuts' positions and boxes, or the kerf)." +
+                describe_bridges(labels,
+                                 state,
+                                 seed_voxel[taken->second],
+                                 seed_voxel[s],
+                                 prm));
             segment_of_piece[found] = s;
           }
         const double voxel = labels.voxel_volume();
@@ -293,7 +424,7 @@ namespace softface
       const auto       &state  = bone.state;
       const Pieces      pieces = connected_pieces(labels, state);
       const auto        segment_of_piece =
-        assign_segments(labels, pieces, prm, segments);
+        assign_segments(labels, state, pieces, prm, segments);
 
       // The parts, then the rest of the bone (kerfs, small pieces) to the
       // nearest part through the bone.

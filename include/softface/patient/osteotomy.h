@@ -35,6 +35,14 @@ namespace softface
       /// Distance of @p x to the cut surface (mm); infinite outside its box.
       double
       distance(const Vec3 &x) const;
+
+      /// Distance of @p x to the cut surface extended beyond its box (mm).
+      double
+      surface_distance(const Vec3 &x) const;
+
+      /// Is @p x inside the cut's box?
+      bool
+      in_box(const Vec3 &x) const;
     };
 
     struct OsteotomyParameters
