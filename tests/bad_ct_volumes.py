@@ -72,34 +72,58 @@ write("ct_nrrd_gzip_short.nrrd",
       b"encoding: gzip\nendian: little\n\n" + gzip.compress(ct16[:len(ct16) // 2], mtime=0),
       False)
 
-# A DICOM series of 8 x 8 slices at z = 0, 2, 4 and 8 mm: the slice at 6 mm is missing.
 import pydicom
 from pydicom.dataset import FileDataset, FileMetaDataset
 from pydicom.uid import ExplicitVRLittleEndian
 
-folder = os.path.join(OUT, "ct_dicom_missing_slice")
-os.makedirs(folder, exist_ok=True)
 root = "1.2.826.0.1.3680043.10.1031."           # fixed UIDs: the files are the same each time
-slices = head((8, 8, 4))
-for n, z in enumerate((0.0, 2.0, 4.0, 8.0)):
-    meta = FileMetaDataset()
-    meta.MediaStorageSOPClassUID = "1.2.840.10008.5.1.4.1.1.2"          # CT Image Storage
-    meta.MediaStorageSOPInstanceUID = root + "3.%d" % (n + 1)
-    meta.TransferSyntaxUID = ExplicitVRLittleEndian
-    name = os.path.join(folder, "slice%d.dcm" % n)
-    ds = FileDataset(name, {}, file_meta=meta, preamble=b"\0" * 128)
-    ds.SOPClassUID, ds.SOPInstanceUID = meta.MediaStorageSOPClassUID, meta.MediaStorageSOPInstanceUID
-    ds.Modality, ds.PatientName, ds.PatientID = "CT", "Test^Missing", "softface-test"
-    ds.StudyInstanceUID, ds.SeriesInstanceUID = root + "1", root + "2"
-    ds.FrameOfReferenceUID = root + "4"
-    ds.InstanceNumber, ds.SeriesNumber = n + 1, 1
-    ds.ImagePositionPatient = [0.0, 0.0, z]
-    ds.ImageOrientationPatient = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
-    ds.PixelSpacing, ds.SliceThickness = [2.0, 2.0], 2.0
-    ds.Rows, ds.Columns = 8, 8
-    ds.SamplesPerPixel, ds.PhotometricInterpretation = 1, "MONOCHROME2"
-    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 1
-    ds.RescaleSlope, ds.RescaleIntercept, ds.RescaleType = 1, 0, "HU"
-    ds.PixelData = slices[n].astype(np.int16).tobytes()
-    ds.is_little_endian, ds.is_implicit_VR = True, False
-    ds.save_as(name, write_like_original=False)
+
+
+def dicom_series(name, positions, uids, patient, bright=None):
+    """A series of 8 x 8 axial slices at @p positions (x, y, z in mm), one file each, in
+    tests/bad_input/NAME; @p uids: the suffixes of its study, series, images and frame of
+    reference UIDs. With @p bright, unsigned stored values with intercept -1024 and, in the
+    middle of the first slice, 2 x 2 voxels of the stored value @p bright."""
+    folder = os.path.join(OUT, name)
+    os.makedirs(folder, exist_ok=True)
+    slices = head((8, 8, len(positions)), np.int32)
+    if bright is not None:
+        slices += 1024
+        slices[0, 3:5, 3:5] = bright
+    for n, position in enumerate(positions):
+        meta = FileMetaDataset()
+        meta.MediaStorageSOPClassUID = "1.2.840.10008.5.1.4.1.1.2"          # CT Image Storage
+        meta.MediaStorageSOPInstanceUID = root + uids[2] + ".%d" % (n + 1)
+        meta.TransferSyntaxUID = ExplicitVRLittleEndian
+        filename = os.path.join(folder, "slice%d.dcm" % n)
+        ds = FileDataset(filename, {}, file_meta=meta, preamble=b"\0" * 128)
+        ds.SOPClassUID = meta.MediaStorageSOPClassUID
+        ds.SOPInstanceUID = meta.MediaStorageSOPInstanceUID
+        ds.Modality, ds.PatientName, ds.PatientID = "CT", patient, "softface-test"
+        ds.StudyInstanceUID, ds.SeriesInstanceUID = root + uids[0], root + uids[1]
+        ds.FrameOfReferenceUID = root + uids[3]
+        ds.InstanceNumber, ds.SeriesNumber = n + 1, 1
+        ds.ImagePositionPatient = list(position)
+        ds.ImageOrientationPatient = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        ds.PixelSpacing, ds.SliceThickness = [2.0, 2.0], 2.0
+        ds.Rows, ds.Columns = 8, 8
+        ds.SamplesPerPixel, ds.PhotometricInterpretation = 1, "MONOCHROME2"
+        ds.BitsAllocated, ds.BitsStored, ds.HighBit = 16, 16, 15
+        ds.PixelRepresentation = 1 if bright is None else 0
+        ds.RescaleSlope, ds.RescaleIntercept, ds.RescaleType = 1, 0 if bright is None else -1024, "HU"
+        ds.PixelData = slices[n].astype(np.int16 if bright is None else np.uint16).tobytes()
+        ds.is_little_endian, ds.is_implicit_VR = True, False
+        ds.save_as(filename, write_like_original=False)
+
+
+# Slices at z = 0, 2, 4 and 8 mm: the slice at 6 mm is missing.
+dicom_series("ct_dicom_missing_slice", [(0.0, 0.0, z) for z in (0.0, 2.0, 4.0, 8.0)],
+             ("1", "2", "3", "4"), "Test^Missing")
+# Slices 2 mm apart along z and 1 mm apart along y, with axial rows and columns: the stack of
+# a gantry tilted by 26.6 degrees, sheared along the table.
+dicom_series("ct_dicom_gantry_tilt", [(0.0, z / 2, z) for z in (0.0, 2.0, 4.0, 6.0)],
+             ("11", "12", "13", "14"), "Test^Tilt")
+# Unsigned stored values with intercept -1024, four of them 65000: 63976 HU after the rescale,
+# past the 16-bit integers softface keeps (converted, they would wrap around to -1560 HU, air).
+dicom_series("ct_dicom_rescale_overflow", [(0.0, 0.0, z) for z in (0.0, 2.0, 4.0, 6.0)],
+             ("21", "22", "23", "24"), "Test^Overflow", bright=65000)

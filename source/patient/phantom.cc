@@ -391,9 +391,16 @@ namespace softface
     void
     Phantom::acquire(CTVolume &ct, LabelVolume &truth) const
     {
-      ct = grid();
+      acquire(grid(), ct, truth);
+    }
+
+    void
+    Phantom::acquire(const CTVolume &grid,
+                     CTVolume       &ct,
+                     LabelVolume    &truth) const
+    {
+      ct.reinit_like(grid);
       truth.reinit_like(ct);
-      ct.values.assign(ct.n_voxels(), 0);
 
       // Labels at voxel centres, slab by slab on every core.
       const std::size_t  nk = ct.size[2];

@@ -96,6 +96,16 @@ namespace softface
       void
       acquire(CTVolume &ct, LabelVolume &truth) const;
 
+      /**
+       * The same acquisition on the grid of @p grid (its size, spacing,
+       * origin and direction; its values are not used): an oblique scan of
+       * the same head when the direction is not the identity. The point
+       * spread acts along the grid's axes, as a scanner's does along its
+       * own.
+       */
+      void
+      acquire(const CTVolume &grid, CTVolume &ct, LabelVolume &truth) const;
+
       /// The largest grid grid() makes (a 0.5 mm head is 88 million).
       static constexpr std::size_t max_voxels = 400000000;
 

@@ -518,7 +518,14 @@ namespace softface
           {
             if (std::filesystem::is_directory(filename))
               {
-                // A DICOM series: the largest one in the folder.
+                // A DICOM series: the one of the most slices in the folder
+                // (a scout or localiser beside a scan is a series of its
+                // own, told apart by its SeriesInstanceUID, or by its size,
+                // slice thickness or series number). GDCM orders the slices
+                // by ImagePositionPatient along the normal of
+                // ImageOrientationPatient, not by file name or
+                // InstanceNumber; ITK takes the frame from both, so an
+                // oblique series keeps its own, without resampling.
                 auto names = itk::GDCMSeriesFileNames::New();
                 names->SetUseSeriesDetails(true);
                 names->SetDirectory(filename);
@@ -528,7 +535,12 @@ namespace softface
                     files = names->GetFileNames(uid);
                 if (files.size() < 2)
                   throw Error("no DICOM series of two or more slices");
-                auto reader = itk::ImageSeriesReader<Image>::New();
+                // GDCM applies RescaleSlope and RescaleIntercept; read as
+                // float, the values are checked like a float file's before
+                // they become integers (a stored value the rescale takes
+                // past 16 bits would otherwise wrap around).
+                auto reader =
+                  itk::ImageSeriesReader<itk::Image<float, 3>>::New();
                 reader->SetImageIO(itk::GDCMImageIO::New());
                 reader->SetFileNames(files);
                 // The reader stacks the slices at one spacing and records
@@ -551,6 +563,39 @@ namespace softface
                     "by up to " +
                     number(deviation) + " mm from the slice spacing of " +
                     number(image->GetSpacing()[2]) + " mm");
+                // The reader keeps the first slice's directions and stacks
+                // the slices along the normal of its rows and columns, at
+                // the distance from the first slice's position to the
+                // last's over the number of gaps. Positions that go another
+                // way (a tilted gantry shears the slices along the table)
+                // would be stacked as if they did not: the anatomy slanted
+                // and stretched by 1 / cos(tilt). Refused.
+                {
+                  auto last = itk::GDCMImageIO::New();
+                  last->SetFileName(files.back());
+                  last->ReadImageInformation();
+                  const auto &D     = image->GetDirection();
+                  double      along = 0, across = 0;
+                  for (unsigned int r = 0; r < 3; ++r)
+                    along +=
+                      (last->GetOrigin(r) - image->GetOrigin()[r]) * D[r][2];
+                  for (unsigned int r = 0; r < 3; ++r)
+                    across +=
+                      std::pow(last->GetOrigin(r) - image->GetOrigin()[r] -
+                                 along * D[r][2],
+                               2);
+                  across = std::sqrt(across);
+                  if (!(along > 0 && across <= 0.01 * along))
+                    throw Error(
+                      "its slices are not stacked along the normal of their "
+                      "rows and columns (ImageOrientationPatient): from the "
+                      "first slice to the last, ImagePositionPatient moves " +
+                      number(along) + " mm along the normal and " +
+                      number(across) + " mm across it (" +
+                      number(std::atan2(across, along) * 180 / M_PI) +
+                      " degrees, as from a tilted gantry), a grid softface "
+                      "does not resample");
+                }
                 for (unsigned int d = 0; d < 3; ++d)
                   {
                     const double s = image->GetSpacing()[d];
@@ -561,7 +606,7 @@ namespace softface
                                   " mm (expected " + number(min_spacing) +
                                   " to " + number(max_spacing) + " mm)");
                   }
-                return from_itk<T>(image);
+                return converted<T, float>(image);
               }
             if (!std::filesystem::exists(filename))
               throw Error("no such file");
