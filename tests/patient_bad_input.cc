@@ -2,11 +2,11 @@
 // or the parameter, and a non-zero exit code, never a crash or a result made
 // of half-written files: a CT that does not exist, is not an image, is cut
 // short, or is not 3D; a phantom too large to hold; a malformed plane; a
-// threshold that selects nothing; a region of interest outside the volume or
-// touching no bone; a seed point in no bone; two segments that no cut
-// separates; a bone part with no join point. Each scene is the small phantom (2
-// mm voxels) with one thing wrong; they share one work directory, so the stages
-// that did not change are reused.
+// threshold that selects nothing or is neither a number nor 'auto'; a region
+// of interest outside the volume or touching no bone; a seed point in no
+// bone; two segments that no cut separates; a bone part with no join point.
+// Each scene is the small phantom (2 mm voxels) with one thing wrong; they
+// share one work directory, so the stages that did not change are reused.
 
 #include <softface/patient/image_io.h>
 
@@ -114,6 +114,9 @@ SOFTFACE_TEST(patient_bad_input)
   run_case("bone threshold",
            "    subsection Segmentation\n      set Bone threshold = "
            "5000\n    end\n");
+  run_case("threshold neither a number nor auto",
+           "    subsection Segmentation\n      set Fat threshold = "
+           "-30 HU\n    end\n");
   run_case("region outside the volume",
            "    subsection Region of interest\n      set Box = 500, 500, "
            "500; 600, 600, 600\n    end\n");

@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace softface
 {
@@ -41,6 +42,20 @@ namespace softface
         std::ostringstream s;
         s << std::setprecision(17);
         ((s << items << '\n'), ...);
+        return s.str();
+      }
+
+      // A segmentation threshold in a stamp: its number, or 'auto', whose
+      // value the CT (earlier in the stamp) and the smoothing decide. A
+      // number is written as stamp_of() writes it, so that the stamps of
+      // numbers stay what they were.
+      std::string
+      threshold_stamp(const double value, const bool automatic)
+      {
+        if (automatic)
+          return "auto";
+        std::ostringstream s;
+        s << std::setprecision(17) << value;
         return s.str();
       }
 
@@ -290,31 +305,46 @@ namespace softface
         // 2. Labels and the dense skin and skull surfaces.
         clock         = StageClock();
         const auto &s = prm.segmentation;
-        labels_stamp  = ct_stamp + stamp_of("segmentation",
-                                           prm.label_volume.empty() ?
-                                              std::string("softface") :
+        labels_stamp =
+          ct_stamp +
+          stamp_of("segmentation",
+                   prm.label_volume.empty() ? std::string("softface") :
                                               file_stamp(prm.label_volume),
-                                           s.smoothing,
-                                           s.body_threshold,
-                                           s.bone_threshold,
-                                           s.fat_threshold,
-                                           s.skin_thickness,
-                                           s.min_bone_volume);
-        if (prm.reuse && up_to_date(work / "labels.stamp",
-                                    labels_stamp,
-                                    {file("labels.nii.gz"),
-                                     file("skin.vtp"),
-                                     file("skull.vtp")}))
+                   s.smoothing,
+                   threshold_stamp(s.body_threshold, s.auto_body_threshold),
+                   threshold_stamp(s.bone_threshold, s.auto_bone_threshold),
+                   threshold_stamp(s.fat_threshold, s.auto_fat_threshold),
+                   s.skin_thickness,
+                   s.min_bone_volume);
+        // The thresholds used, beside the labels: for the reader, and for a
+        // reused stage's report.
+        const fs::path           thresholds_file = work / "thresholds.txt";
+        std::vector<std::string> outputs         = {file("labels.nii.gz"),
+                                                    file("skin.vtp"),
+                                                    file("skull.vtp")};
+        if (prm.label_volume.empty())
+          outputs.push_back(thresholds_file.string());
+        if (prm.reuse &&
+            up_to_date(work / "labels.stamp", labels_stamp, outputs))
           {
             labels = read_labels(file("labels.nii.gz"));
             load_figures("labels");
             log << "    segmentation: reused " << file("labels.nii.gz")
                 << std::endl;
+            if (prm.label_volume.empty())
+              {
+                std::ifstream in(thresholds_file);
+                std::string   line;
+                std::getline(in, line);
+                log << "    " << line << std::endl;
+              }
           }
         else
           {
             Volume<float> body_field, bone_field;
             double body_level = s.body_threshold, bone_level = s.bone_threshold;
+            std::string                                        thresholds;
+            std::vector<std::tuple<std::string, double, bool>> used;
             if (prm.label_volume.empty())
               {
                 auto result =
@@ -324,6 +354,19 @@ namespace softface
                                                   prm.ct_volume);
                 labels     = std::move(result.labels);
                 body_field = std::move(result.smoothed);
+                // The surfaces at the thresholds the labels were made with.
+                body_level = result.body_threshold;
+                bone_level = result.bone_threshold;
+                thresholds = "thresholds: " + describe_thresholds(s, result);
+                used       = {{{"body threshold",
+                                result.body_threshold,
+                                s.auto_body_threshold},
+                               {"bone threshold",
+                                result.bone_threshold,
+                                s.auto_bone_threshold},
+                               {"fat threshold",
+                                result.fat_threshold,
+                                s.auto_fat_threshold}}};
               }
             else
               {
@@ -373,12 +416,23 @@ namespace softface
                                    write_surface(skull, f);
                                  });
               }
+            if (prm.label_volume.empty())
+              write_atomically(thresholds_file, [&](const std::string &f) {
+                std::ofstream out(f);
+                out << thresholds << '\n';
+                if (!out)
+                  throw Error("Cannot write " + f + ".");
+              });
             std::ofstream(work / "labels.stamp") << labels_stamp;
             const std::size_t first = model.figures.size();
+            for (const auto &[name, value, automatic] : used)
+              figure(name, number(value, 6) + (automatic ? " auto" : ""));
             figure("skin vertices", std::to_string(skin.points.size()));
             figure("skull vertices", std::to_string(skull.points.size()));
             figure("segmentation s", number(clock.seconds()));
             save_figures("labels", first);
+            if (prm.label_volume.empty())
+              log << "    " << thresholds << std::endl;
             log << "    segmentation: skin " << skin.points.size()
                 << " vertices, skull " << skull.points.size() << " vertices ("
                 << std::fixed << std::setprecision(1) << clock.seconds()

@@ -64,19 +64,37 @@ namespace softface
                           "0.5",
                           Patterns::Double(0.),
                           "Gaussian smoothing (mm) before the thresholds.");
+        // A number, or 'auto' (checked when parsed, with the parameter's
+        // name in the message).
+        const auto        threshold = Patterns::Anything();
+        const std::string automatic =
+          " 'auto': chosen from the scan's histogram (Otsu's threshold "
+          "splits the voxels concerned into two classes; the threshold is "
+          "the midpoint of their peaks, for bone 45 % of the way from soft "
+          "tissue's to bone's), for a CT in other units than HU; "
+          "the value chosen is printed and written to thresholds.txt in "
+          "the work directory.";
         prm.declare_entry("Body threshold",
                           "-480",
-                          Patterns::Double(),
-                          "HU between air and skin.");
+                          threshold,
+                          "HU between air and skin, or 'auto' (air against "
+                          "every other voxel)." +
+                            automatic);
         prm.declare_entry("Bone threshold",
                           "520",
-                          Patterns::Double(),
+                          threshold,
                           "HU between soft tissue and bone (the phantom's "
-                          "midpoint; real scans often want 250-400).");
+                          "midpoint; real scans often want 250-400), or "
+                          "'auto' (soft tissue against bone, within the "
+                          "body)." +
+                            automatic);
         prm.declare_entry("Fat threshold",
                           "-30",
-                          Patterns::Double(),
-                          "HU between fat and muscle.");
+                          threshold,
+                          "HU between fat and muscle, or 'auto' (fat against "
+                          "muscle, within the facial soft tissue under the "
+                          "skin)." +
+                            automatic);
         prm.declare_entry("Skin thickness",
                           "2",
                           Patterns::Double(0.),
@@ -186,9 +204,10 @@ namespace softface
                         Patterns::Anything(),
                         "The patient's CT: a volume file ITK reads (NIfTI "
                         ".nii/.nii.gz, NRRD, MetaImage) or a folder with a "
-                        "DICOM series, in Hounsfield units. Empty: the phantom "
-                        "of subsection Phantom. Relative to the parameter "
-                        "file's folder.");
+                        "DICOM series, in Hounsfield units (in other units, "
+                        "set the segmentation's thresholds to 'auto'). Empty: "
+                        "the phantom of subsection Phantom. Relative to the "
+                        "parameter file's folder.");
       prm.declare_entry("Label volume",
                         "",
                         Patterns::Anything(),
@@ -265,10 +284,32 @@ namespace softface
       phantom.parse_parameters(prm);
 
       prm.enter_subsection("Segmentation");
-      segmentation.smoothing       = prm.get_double("Smoothing");
-      segmentation.body_threshold  = prm.get_double("Body threshold");
-      segmentation.bone_threshold  = prm.get_double("Bone threshold");
-      segmentation.fat_threshold   = prm.get_double("Fat threshold");
+      segmentation.smoothing = prm.get_double("Smoothing");
+      // A threshold's number, or 'auto': the default number is kept and
+      // the segmentation chooses one from the scan.
+      const auto threshold =
+        [&](const std::string &name, double &value, bool &automatic) {
+          const std::string text = Utilities::trim(prm.get(name));
+          automatic              = text == "auto";
+          if (automatic)
+            return;
+          std::istringstream in(text);
+          double             x = 0.;
+          if (!(in >> x) || !(in >> std::ws).eof() || !std::isfinite(x))
+            throw Error("Scene/Patient/Segmentation/" + name +
+                        ": expected a number (HU) or 'auto' (got '" + text +
+                        "').");
+          value = x;
+        };
+      threshold("Body threshold",
+                segmentation.body_threshold,
+                segmentation.auto_body_threshold);
+      threshold("Bone threshold",
+                segmentation.bone_threshold,
+                segmentation.auto_bone_threshold);
+      threshold("Fat threshold",
+                segmentation.fat_threshold,
+                segmentation.auto_fat_threshold);
       segmentation.skin_thickness  = prm.get_double("Skin thickness");
       segmentation.min_bone_volume = prm.get_double("Minimum bone volume");
       prm.leave_subsection();

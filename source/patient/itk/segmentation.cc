@@ -10,14 +10,21 @@
 #include <itkBinaryFillholeImageFilter.h>
 #include <itkBinaryThresholdImageFilter.h>
 #include <itkConnectedComponentImageFilter.h>
+#include <itkHistogram.h>
 #include <itkImage.h>
+#include <itkOtsuMultipleThresholdsCalculator.h>
 #include <itkRelabelComponentImageFilter.h>
 #include <itkSignedMaurerDistanceMapImageFilter.h>
 #include <itkSmoothingRecursiveGaussianImageFilter.h>
 #include <itkTimeProbe.h>
 
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
 #include <set>
 #include <sstream>
+#include <vector>
 
 namespace softface
 {
@@ -77,7 +84,129 @@ namespace softface
         s << x;
         return s.str();
       }
+
+      // Bins of the histograms an 'auto' threshold is chosen on: some ten
+      // HU wide over a head CT's range, finer over the narrower ranges of
+      // the body and the soft tissue; the peaks are located to a fraction
+      // of a bin.
+      constexpr unsigned int n_bins = 256;
+
+      // The peak of counts[first, last): the fullest bin, refined by the
+      // parabola through it and its neighbours (the counts are a smooth
+      // bump there, and its top moves continuously with the data, not by
+      // whole bins).
+      double
+      peak(const std::vector<double> &counts,
+           const std::size_t          first,
+           const std::size_t          last)
+      {
+        std::size_t top = first;
+        for (std::size_t b = first; b < last; ++b)
+          if (counts[b] > counts[top])
+            top = b;
+        double position = top + 0.5;
+        if (top > first && top + 1 < last)
+          {
+            const double a = counts[top - 1], b = counts[top],
+                         c         = counts[top + 1];
+            const double curvature = a - 2. * b + c;
+            if (curvature < 0.)
+              position += std::clamp(0.5 * (a - c) / curvature, -0.5, 0.5);
+          }
+        return position;
+      }
+
+      /**
+       * The threshold between the two classes of the @p values that
+       * @p select picks: Otsu's threshold (ITK) on their histogram splits
+       * them, and the threshold lies @p fraction of the way from the lower
+       * class's peak to the upper's (the midpoint by default). @p where
+       * names the parameter in the error when too few values are there.
+       */
+      template <typename Select>
+      double
+      automatic_threshold(const float       *values,
+                          const std::size_t  n,
+                          Select           &&select,
+                          const std::string &where,
+                          const double       fraction = 0.5)
+      {
+        double      low        = std::numeric_limits<double>::max();
+        double      high       = std::numeric_limits<double>::lowest();
+        std::size_t n_selected = 0;
+        for (std::size_t v = 0; v < n; ++v)
+          if (select(v))
+            {
+              low  = std::min<double>(low, values[v]);
+              high = std::max<double>(high, values[v]);
+              ++n_selected;
+            }
+        if (n_selected < 2 * n_bins || !(high > low))
+          throw Error(where + " = auto: too few voxels with distinct values (" +
+                      std::to_string(n_selected) +
+                      ") to choose a threshold from; give a number.");
+        const double        width = (high - low) / n_bins;
+        std::vector<double> counts(n_bins, 0.);
+        for (std::size_t v = 0; v < n; ++v)
+          if (select(v))
+            ++counts[std::min<std::size_t>(
+              n_bins - 1, static_cast<std::size_t>((values[v] - low) / width))];
+
+        using Histogram = itk::Statistics::Histogram<double>;
+        auto histogram  = Histogram::New();
+        histogram->SetMeasurementVectorSize(1);
+        Histogram::SizeType size(1);
+        size.Fill(n_bins);
+        Histogram::MeasurementVectorType lower(1), upper(1);
+        lower[0] = low;
+        upper[0] = high;
+        histogram->Initialize(size, lower, upper);
+        for (unsigned int b = 0; b < n_bins; ++b)
+          histogram->SetFrequency(b, counts[b]);
+        auto otsu = itk::OtsuMultipleThresholdsCalculator<Histogram>::New();
+        otsu->SetInputHistogram(histogram);
+        otsu->SetNumberOfThresholds(1);
+        otsu->Compute();
+        // The peaks on the histogram smoothed over a few bins: the counts
+        // of single bins are noisy (and combed when the scan's values are
+        // coarser than a bin).
+        std::vector<double> smooth(n_bins, 0.);
+        for (int b = 0; b < int(n_bins); ++b)
+          {
+            double sum = 0., weight = 0.;
+            for (int d = -3; d <= 3; ++d)
+              if (b + d >= 0 && b + d < int(n_bins))
+                {
+                  const double w = std::exp(-0.5 * d * d);
+                  sum += w * counts[b + d];
+                  weight += w;
+                }
+            smooth[b] = sum / weight;
+          }
+        // The lower class: the bins up to Otsu's threshold (a bin's upper
+        // end).
+        const std::size_t split = std::clamp<std::size_t>(
+          std::lround((otsu->GetOutput()[0] - low) / width), 1, n_bins - 1);
+        const double lower_peak = peak(smooth, 0, split);
+        const double upper_peak = peak(smooth, split, n_bins);
+        return low +
+               (lower_peak + fraction * (upper_peak - lower_peak)) * width;
+      }
     } // namespace
+
+    std::string
+    describe_thresholds(const SegmentationParameters &prm,
+                        const SegmentationResult     &result)
+    {
+      std::ostringstream s;
+      s << std::fixed << std::setprecision(1);
+      s << "body " << result.body_threshold
+        << (prm.auto_body_threshold ? " (auto)" : "") << ", bone "
+        << result.bone_threshold << (prm.auto_bone_threshold ? " (auto)" : "")
+        << ", fat " << result.fat_threshold
+        << (prm.auto_fat_threshold ? " (auto)" : "");
+      return s.str();
+    }
 
     SegmentationResult
     segment(const CTVolume               &ct,
@@ -114,10 +243,36 @@ namespace softface
 
       // The body: above the body threshold, enclosed air filled, the
       // largest piece (the table and the scanner's air are not the head).
-      MaskImage::Pointer body_mask = threshold(smoothed, prm.body_threshold);
+      const float      *hu     = smoothed->GetBufferPointer();
+      const std::string where  = "Scene/Patient/Segmentation/";
+      const auto        chosen = [&](const std::string &name) {
+        return "Segmentation of '" + source + "': '" + where + name + "'";
+      };
+      // The body's threshold splits every voxel: air and the rest. A value
+      // that fills over 1 % of the scan at its very bottom is the padding
+      // outside the reconstructed field of view (-3024 or -2048 HU on many
+      // scanners), not air: left out, lest Otsu split padding from air.
+      result.body_threshold = prm.body_threshold;
+      if (prm.auto_body_threshold)
+        {
+          const std::int16_t lowest =
+            *std::min_element(ct.values.begin(), ct.values.end());
+          const bool padded =
+            std::count(ct.values.begin(), ct.values.end(), lowest) > n / 100;
+          result.body_threshold = automatic_threshold(
+            hu,
+            n,
+            [&](const std::size_t v) {
+              return !padded || ct.values[v] != lowest;
+            },
+            chosen("Body threshold"));
+        }
+      MaskImage::Pointer body_mask = threshold(smoothed, result.body_threshold);
       if (count(body_mask) == 0)
         fail("'Scene/Patient/Segmentation/Body threshold' (" +
-             number(prm.body_threshold) + " HU) selects no voxel.");
+             number(result.body_threshold) +
+             (prm.auto_body_threshold ? ", auto" : " HU") +
+             ") selects no voxel.");
       {
         auto fill = itk::BinaryFillholeImageFilter<MaskImage>::New();
         fill->SetInput(body_mask);
@@ -130,8 +285,25 @@ namespace softface
       const auto *body_piece  = body_pieces->GetBufferPointer();
 
       // Bone: above the bone threshold inside the body; pieces smaller than
-      // the minimum volume are noise or streaks.
-      const auto bone_mask = threshold(smoothed, prm.bone_threshold);
+      // the minimum volume are noise or streaks. An 'auto' bone threshold
+      // splits the body's voxels above the body threshold (the enclosed air
+      // left out): soft tissue and bone, 45 % of the way from the one's peak
+      // to the other's, as the default lies on the phantom. Thin bone (a
+      // skull a few voxels thick, the orbits' walls) never reaches the
+      // bone's peak: at the midpoint the phantom's skull opens at 2 mm
+      // voxels and the brain joins the facial soft tissue.
+      result.bone_threshold =
+        prm.auto_bone_threshold ?
+          automatic_threshold(
+            hu,
+            n,
+            [&](const std::size_t v) {
+              return body_piece[v] == 1 && hu[v] >= result.body_threshold;
+            },
+            chosen("Bone threshold"),
+            0.45) :
+          prm.bone_threshold;
+      const auto bone_mask = threshold(smoothed, result.bone_threshold);
       {
         auto *bone = bone_mask->GetBufferPointer();
         for (std::size_t v = 0; v < n; ++v)
@@ -139,9 +311,9 @@ namespace softface
       }
       if (count(bone_mask) == 0)
         fail("'Scene/Patient/Segmentation/Bone threshold' (" +
-             number(prm.bone_threshold) +
-             " HU) selects no voxel inside the "
-             "body.");
+             number(result.bone_threshold) +
+             (prm.auto_bone_threshold ? ", auto" : " HU") +
+             ") selects no voxel inside the body.");
       const auto bone_pieces = components(
         bone_mask,
         std::max<std::size_t>(1, prm.min_bone_volume / ct.voxel_volume()));
@@ -178,9 +350,49 @@ namespace softface
         if (soft_piece[v] != 0 && -depth[v] < prm.skin_thickness)
           external.insert(soft_piece[v]);
 
+      // The fat's splits the tissue it decides on: the external soft
+      // tissue deeper than the skin. Left out: the voxels within the skin
+      // thickness of bone, whose values the bone's raise (on the phantom
+      // they outnumber the fat and would split off as a class of their
+      // own), and the air of the mouth and the airways, filled into the
+      // body but neither fat nor muscle.
+      result.fat_threshold = prm.fat_threshold;
+      if (prm.auto_fat_threshold)
+        {
+          auto bone_only = MaskImage::New();
+          bone_only->CopyInformation(body_mask);
+          bone_only->SetRegions(body_mask->GetLargestPossibleRegion());
+          bone_only->Allocate();
+          for (std::size_t v = 0; v < n; ++v)
+            bone_only->GetBufferPointer()[v] = (bone_piece[v] != 0);
+          auto bone_distance =
+            itk::SignedMaurerDistanceMapImageFilter<MaskImage,
+                                                    FloatImage>::New();
+          bone_distance->SetInput(bone_only);
+          bone_distance->SetInsideIsPositive(false);
+          bone_distance->SetUseImageSpacing(true);
+          bone_distance->SetSquaredDistance(false);
+          bone_distance->Update();
+          const float *from_bone =
+            bone_distance->GetOutput()->GetBufferPointer();
+          std::vector<bool> is_external(n, false);
+          for (std::size_t v = 0; v < n; ++v)
+            is_external[v] =
+              soft_piece[v] != 0 && external.count(soft_piece[v]);
+          result.fat_threshold = automatic_threshold(
+            hu,
+            n,
+            [&](const std::size_t v) {
+              return is_external[v] && -depth[v] >= prm.skin_thickness &&
+                     from_bone[v] >= prm.skin_thickness &&
+                     hu[v] >= result.body_threshold &&
+                     hu[v] < result.bone_threshold;
+            },
+            chosen("Fat threshold"));
+        }
+
       LabelVolume &labels = result.labels;
       labels.reinit_like(ct);
-      const float *hu = smoothed->GetBufferPointer();
       for (std::size_t v = 0; v < n; ++v)
         {
           std::uint8_t l = outside_body;
@@ -192,7 +404,7 @@ namespace softface
                 l = internal_tissue;
               else if (-depth[v] < prm.skin_thickness)
                 l = skin_tissue;
-              else if (hu[v] < prm.fat_threshold)
+              else if (hu[v] < result.fat_threshold)
                 l = fat_tissue;
               else
                 l = muscle_tissue;
