@@ -317,7 +317,7 @@ namespace softface
             v = (step[v] % 2) ? v - stride[d] : v + stride[d];
           }
         if (passages == 0)
-          return " The bone joins them around every cut's surface.";
+          return " The bone joins them without passing any cut's surface.";
         s << ". Enlarge the box to hold the bone there.";
         return s.str();
       }

@@ -291,7 +291,10 @@ namespace softface
               }
             ct_stamp = build + stamp_of("file", file_stamp(prm.ct_volume));
             log << "    CT " << prm.ct_volume << ": " << ct.size[0] << " x "
-                << ct.size[1] << " x " << ct.size[2] << " voxels" << std::endl;
+                << ct.size[1] << " x " << ct.size[2] << " voxels ("
+                << std::fixed << std::setprecision(1) << clock.seconds()
+                << " s)" << std::defaultfloat << std::endl;
+            figure("CT read s", number(clock.seconds()));
           }
         figure("CT voxels",
                std::to_string(ct.size[0]) + " x " + std::to_string(ct.size[1]) +
