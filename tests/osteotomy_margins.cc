@@ -67,10 +67,10 @@ SOFTFACE_TEST(osteotomy_margins)
                 std::abs(labels.point(i, j, k)[1] - cut.point[1]);
               if (d > 15.)
                 continue; // the other cut's
-              const bool is_detached = parts(i, j, k) == detached_part;
-              detached += is_detached;
-              outside += is_detached && d >= cut.detached_margin;
-              inside_kept += !is_detached && d < cut.detached_margin;
+              const bool lifted = is_detached(parts(i, j, k));
+              detached += lifted;
+              outside += lifted && d >= cut.detached_margin;
+              inside_kept += !lifted && d < cut.detached_margin;
             }
       deallog << "cut '" << cut.name << "', margin " << cut.detached_margin
               << " mm:" << std::endl;

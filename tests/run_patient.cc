@@ -46,24 +46,14 @@ SOFTFACE_TEST(run_patient)
     simulator.plannings().plans.at(0).planning.prescribed_displacement(scene);
   for (const auto &[name, run] : run_of)
     {
-      double join_error = 0., free_largest = 0.;
-      for (const auto &dofs : scene.vertex_dofs())
-        {
-          Tensor<1, 3> u, e;
-          for (unsigned int c = 0; c < 3; ++c)
-            {
-              u[c] = run->displacement[dofs[c]];
-              e[c] = u[c] - planned[dofs[c]];
-            }
-          if (scene.join_dofs()[dofs[0]])
-            join_error = std::max(join_error, e.norm());
-          else
-            free_largest = std::max(free_largest, u.norm());
-        }
-      softface_tests::check_below(
-        name + ": join points, max |u - planned| (mm)", join_error, 1e-9);
+      const auto motion =
+        softface_tests::join_and_free_motion(scene, run->displacement, planned);
+      softface_tests::check_below(name +
+                                    ": join points, max |u - planned| (mm)",
+                                  motion.join_error,
+                                  1e-9);
       softface_tests::check_within(name + ": free points, max |u| (mm)",
-                                   free_largest,
+                                   motion.free_largest,
                                    0.5,
                                    20.);
     }

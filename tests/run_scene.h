@@ -45,6 +45,36 @@ namespace softface_tests
     log_lines(err.str());
     return exit_code;
   }
+
+  /// A patient run's motion: the largest |u - planned| over the join points
+  /// and the largest |u| over the free points (mm).
+  struct JoinAndFreeMotion
+  {
+    double join_error   = 0.;
+    double free_largest = 0.;
+  };
+
+  inline JoinAndFreeMotion
+  join_and_free_motion(const Scene          &scene,
+                       const Vector<double> &u,
+                       const Vector<double> &planned)
+  {
+    JoinAndFreeMotion motion;
+    for (const auto &dofs : scene.vertex_dofs())
+      {
+        Tensor<1, 3> v, e;
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            v[c] = u[dofs[c]];
+            e[c] = v[c] - planned[dofs[c]];
+          }
+        if (scene.join_dofs()[dofs[0]])
+          motion.join_error = std::max(motion.join_error, e.norm());
+        else
+          motion.free_largest = std::max(motion.free_largest, v.norm());
+      }
+    return motion;
+  }
 } // namespace softface_tests
 
 #endif

@@ -13,6 +13,7 @@
 #include <softface/patient/tetrahedral_mesh.h>
 #include <softface/validation/tps_rpm.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <limits>
@@ -524,9 +525,13 @@ namespace softface
                                             "; distances to the post-operative "
                                             "skin, mm")
         << ")\n";
-    out << std::left << std::setw(16) << "model" << std::setw(18) << "mapping"
-        << std::right << std::setw(10) << "step A s" << std::setw(10)
-        << "step B s" << std::setw(10) << "max |u|";
+    // Wide enough for "model, plan" when a scene runs several plans.
+    std::size_t model_width = 16;
+    for (const Row &row : rows)
+      model_width = std::max(model_width, row.model.size() + 2);
+    out << std::left << std::setw(model_width) << "model" << std::setw(18)
+        << "mapping" << std::right << std::setw(10) << "step A s"
+        << std::setw(10) << "step B s" << std::setw(10) << "max |u|";
     if (!post_operative.points.empty())
       out << std::setw(9) << "mean" << std::setw(9) << "p50" << std::setw(9)
           << "p90" << std::setw(9) << "p95" << std::setw(9) << "max";
@@ -578,7 +583,7 @@ namespace softface
           csv << (j > 0 ? ";" : "") << m.step_a_parts[j].first << '='
               << m.step_a_parts[j].second;
         csv << '\n';
-        out << std::left << std::setw(16) << row.model << std::setw(18)
+        out << std::left << std::setw(model_width) << row.model << std::setw(18)
             << SurfaceMapping::name_of(row.method) << std::right << std::fixed
             << std::setprecision(3) << std::setw(10) << step_a_seconds[k]
             << std::setw(10) << row.step_b_seconds << std::setw(10)

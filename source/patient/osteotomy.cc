@@ -143,14 +143,36 @@ namespace softface
                                          labels.spacing[2]}));
       }
 
+      // A detached margin that ends inside the kerf's neighbouring voxel
+      // layer detaches nothing at coarse voxels (3 mm at 2 mm voxels: the
+      // layer next to the kerf has its centre 3 mm from the cut), and the
+      // tissue in the kerf stays pinned to both parts: a nonzero margin
+      // reaches at least one voxel beyond the kerf.
+      double
+      voxel_detached_margin(const LabelVolume &labels,
+                            const double       kerf,
+                            const double       margin)
+      {
+        if (margin <= 0.)
+          return 0.;
+        return std::max(margin,
+                        0.5 * kerf + 1.01 * std::max({labels.spacing[0],
+                                                      labels.spacing[1],
+                                                      labels.spacing[2]}));
+      }
+
       BoneState
       mark_kerfs(const LabelVolume         &labels,
                  const std::uint8_t         bone_label,
                  const OsteotomyParameters &prm)
       {
-        const std::size_t n    = labels.n_voxels();
-        const auto       &size = labels.size;
-        const double      kerf = voxel_kerf(labels, prm);
+        const std::size_t   n    = labels.n_voxels();
+        const auto         &size = labels.size;
+        const double        kerf = voxel_kerf(labels, prm);
+        std::vector<double> margins;
+        for (const Cut &cut : prm.cuts)
+          margins.push_back(
+            voxel_detached_margin(labels, kerf, cut.detached_margin));
         // Bone outside the kerfs: what the cuts leave connected.
         BoneState bone;
         auto     &state    = bone.state;
@@ -171,7 +193,7 @@ namespace softface
                     const double d = cut.distance(x);
                     if (d < 0.5 * kerf)
                       state[v] = 2;
-                    if (d < cut.detached_margin)
+                    if (d < margins[&cut - prm.cuts.data()])
                       detached[v] = true;
                   }
               }
@@ -419,6 +441,10 @@ namespace softface
                const OsteotomyParameters      &prm,
                const std::vector<SegmentSeed> &segments)
     {
+      if (segments.size() >= detached_flag)
+        throw Error("Osteotomy: " + std::to_string(segments.size()) +
+                    " segments; at most " + std::to_string(detached_flag - 1) +
+                    ".");
       const std::size_t n      = labels.n_voxels();
       const BoneState   bone   = mark_kerfs(labels, bone_label, prm);
       const auto       &state  = bone.state;
@@ -451,7 +477,7 @@ namespace softface
         }
       for (std::size_t v = 0; v < n; ++v)
         if (bone.detached[v] && parts.values[v] != 0)
-          parts.values[v] = detached_part;
+          parts.values[v] |= detached_flag;
       return parts;
     }
   } // namespace Patient

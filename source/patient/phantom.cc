@@ -241,7 +241,10 @@ namespace softface
         }
       // At least 3 mm of soft tissue over the mandible everywhere.
       f = smin(f, mandible_function(p) - 3., 4.);
-      // The mouth slit separates the lips down to the front teeth.
+      // The mouth slit separates the lips down to the front teeth; closed
+      // lips meet.
+      if (prm.closed_mouth)
+        return f;
       const double slit = std::max({std::abs(x[2] - occlusion) - 1.5,
                                     std::abs(x[0]) - 22. * W,
                                     x[1] + 74.});
@@ -286,7 +289,7 @@ namespace softface
       return arch({{p[0] / W, p[1], p[2]}},
                   -68.,
                   0.025,
-                  occlusion + 1.5,
+                  occlusion + teeth_gap(),
                   occlusion + 12. * prm.face_height,
                   28.,
                   4.);
@@ -296,12 +299,13 @@ namespace softface
     Phantom::lower_teeth_function(const Vec3 &p) const
     {
       const double W = prm.face_width;
-      // The lower teeth ride on the mandible's front.
+      // The lower teeth ride on the mandible's front; in occlusion they
+      // reach the occlusal plane wherever the mandible's shape put them.
       return arch({{p[0] / W, p[1] + chin_advance, p[2] + chin_drop}},
                   -66.,
                   0.025,
                   occlusion - 12. * prm.face_height,
-                  occlusion - 1.5,
+                  occlusion - teeth_gap() + (prm.closed_mouth ? chin_drop : 0.),
                   26.,
                   3.8);
     }

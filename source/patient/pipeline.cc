@@ -246,6 +246,7 @@ namespace softface
                                         p.noise,
                                         p.blur,
                                         p.metal_streaks,
+                                        p.closed_mouth,
                                         p.seed);
             if (prm.reuse &&
                 up_to_date(work / "ct.stamp",

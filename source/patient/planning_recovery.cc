@@ -5,6 +5,7 @@
 // CT does not exist, a post-operative skull is made by moving each part.
 
 #include <softface/core/error.h>
+#include <softface/patient/osteotomy.h>
 #include <softface/patient/planning_recovery.h>
 
 #include <cmath>
@@ -26,8 +27,10 @@ namespace softface
           std::size_t n = 0;
           for (std::size_t v = 0; v < parts.n_voxels(); ++v)
             {
-              mask.values[v] = parts.values[v] == s + 1;
-              n += parts.values[v] == s + 1;
+              // Detached bone is its part's too.
+              const bool in_part = part_number(parts.values[v]) == s + 1;
+              mask.values[v]     = in_part;
+              n += in_part;
             }
           if (n == 0)
             throw Error("Bone part " + std::to_string(s + 1) +

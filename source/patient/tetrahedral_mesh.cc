@@ -513,9 +513,9 @@ namespace softface
               {
                 const std::uint8_t part =
                   parts.values.empty() ? 0 : parts(v[0], v[1], v[2]);
-                if (part == detached_part)
+                if (is_detached(part))
                   return detached_boundary_id;
-                if (part > 0)
+                if (part_number(part) > 0)
                   return first_bone_boundary_id + part - 1;
               }
             else if (!tissue[l])

@@ -82,8 +82,9 @@ namespace softface
         unsigned int       load_steps    = 0;
         unsigned long long point_updates = 0;
         double             max_step      = 0.; ///< |F|/sum k at the end, mm
-        /// Tetrahedra turned inside out at the end (a flipped spring
-        /// inverts the tetrahedra around it).
+        /// Tetrahedra with a free point turned inside out at the end (a
+        /// flipped spring inverts the tetrahedra around it); those of join
+        /// points only move as the planning moves them.
         unsigned int inverted_tetrahedra = 0;
         /// Updates not taken because every halving of the step would have
         /// inverted a tetrahedron.

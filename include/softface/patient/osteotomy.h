@@ -58,14 +58,32 @@ namespace softface
 
       std::vector<Cut> cuts;
       double           kerf = 1.5; ///< mm, width of a saw cut
-      /// mm: bone this close to a cut holds no soft tissue (detached_part),
+      /// mm: bone this close to a cut holds no soft tissue (detached_flag),
       /// for the cuts that do not set their own.
       double detached_margin = 3.;
       double min_part_volume = 500.; ///< mm^3
     };
 
-    /// The value split_bone() gives bone within the detached margin of a cut.
-    constexpr std::uint8_t detached_part = 255;
+    /**
+     * Added by split_bone() to the value of bone within the detached margin
+     * of a cut: the soft tissue touching it is free, and the bone stays its
+     * segment's (for registration and pictures).
+     */
+    constexpr std::uint8_t detached_flag = 128;
+
+    /// The segment number + 1 of a value of split_bone()'s volume (0: none).
+    constexpr unsigned int
+    part_number(const std::uint8_t value)
+    {
+      return value & (detached_flag - 1);
+    }
+
+    /// Whether a value of split_bone()'s volume is detached bone.
+    constexpr bool
+    is_detached(const std::uint8_t value)
+    {
+      return (value & detached_flag) != 0;
+    }
 
     /// A bone segment as the osteotomy needs it: a name and a point in it.
     struct SegmentSeed
@@ -81,8 +99,9 @@ namespace softface
      * bone within 5 mm of it) is that segment's. Returns a volume with s + 1
      * on every bone voxel of segment s; kerf voxels and pieces smaller than
      * 'Minimum part volume' go to the nearest part through the bone.
-     * Bone within a cut's detached margin then gets detached_part: the soft
-     * tissue touching it is free.
+     * Bone within a cut's detached margin (at least one voxel beyond the
+     * kerf) then gets detached_flag added: the soft tissue touching it is
+     * free. At most 127 segments.
      * Throws an Error when a seed is not in bone, when two segments fall in
      * one piece (a cut does not separate them), or when a piece larger than
      * the minimum volume belongs to no segment.

@@ -39,6 +39,9 @@ namespace softface
       /// "class I", "class II" (retrognathic) or "class III" (prognathic).
       std::string profile         = "class I";
       double      jaw_discrepancy = 6.; ///< mm, for class II and III
+      /// Teeth in occlusion and lips together, as most patients are
+      /// scanned; else the teeth and the lips part by 3 mm.
+      bool closed_mouth = false;
 
       double       noise         = 15.; ///< HU, standard deviation
       double       blur          = 0.5; ///< mm, Gaussian point spread
@@ -51,11 +54,11 @@ namespace softface
      * the brain inside, orbits, maxilla with the upper teeth, mandible
      * (body, rami, condyles) with the lower teeth, chin; soft tissue of
      * skin, fat and muscle over it (masseters over the rami), nose, cheeks,
-     * upper and lower lips separated by the mouth slit, neck; air around. Every
-     * structure is an implicit surface (negative inside), so the anatomy is
-     * smooth and closed at any voxel size. Teeth, the temporomandibular joints
-     * and the lips leave gaps of a few mm, as a CT of a patient at rest shows
-     * them.
+     * upper and lower lips, neck; air around. Every structure is an implicit
+     * surface (negative inside), so the anatomy is smooth and closed at any
+     * voxel size. The temporomandibular joints leave gaps of a few mm; the
+     * teeth and the lips part by 3 mm (the mouth slit) or, with a closed
+     * mouth, meet on the occlusal plane.
      */
     class Phantom
     {
@@ -124,6 +127,12 @@ namespace softface
       occlusal_plane() const;
 
     private:
+      /// Half the gap between the upper and lower teeth (mm).
+      double
+      teeth_gap() const
+      {
+        return prm.closed_mouth ? 0. : 1.5;
+      }
       double
       bone_function(const Vec3 &x) const; ///< cranium and midface
       double

@@ -14,8 +14,8 @@ namespace softface
   {
     /**
      * The surface of each bone part of an osteotomy (marching cubes of the
-     * voxels with value s + 1 in @p parts, the bone_parts volume the mesh
-     * stage writes), in the patient frame.
+     * voxels of segment s in @p parts, detached or not: the bone_parts volume
+     * the mesh stage writes), in the patient frame.
      */
     std::vector<TriangleSurface>
     bone_part_surfaces(const LabelVolume &parts, const unsigned int n_segments);

@@ -102,7 +102,7 @@ namespace softface
      * region of interest (cut_boundary_id), bone of segment s
      * (first_bone_boundary_id + s, where @p parts holds s + 1 on the bone of
      * segment s; nearest part within one voxel), bone near a cut
-     * (detached_part in @p parts: detached_boundary_id), or anything else,
+     * (detached_flag in @p parts: detached_boundary_id), or anything else,
      * including tissue all the way (other_boundary_id).
      */
     TetrahedralMesh

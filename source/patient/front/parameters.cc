@@ -601,6 +601,14 @@ namespace softface
                         Patterns::Double(0., 15.),
                         "How far (mm) a class II or III mandible sits behind "
                         "or in front of a class I one.");
+      prm.declare_entry("Mouth",
+                        "open",
+                        Patterns::Selection("open|closed"),
+                        "'open': the teeth and the lips part by 3 mm; "
+                        "'closed': the teeth in occlusion and the lips "
+                        "together, as most patients are scanned. Upper and "
+                        "lower teeth then touch on the occlusal plane (z = "
+                        "-20), so a scene separates the jaws by a cut there.");
       prm.declare_entry("Noise",
                         "15",
                         Patterns::Double(0.),
@@ -640,6 +648,7 @@ namespace softface
       mandible_angle        = prm.get_double("Mandible angle");
       profile               = prm.get("Profile");
       jaw_discrepancy       = prm.get_double("Jaw discrepancy");
+      closed_mouth          = prm.get("Mouth") == "closed";
       noise                 = prm.get_double("Noise");
       blur                  = prm.get_double("Blur");
       metal_streaks         = prm.get_bool("Metal streaks");
@@ -673,7 +682,10 @@ namespace softface
                         "of a cut is attached to neither part (it is free): "
                         "the periosteum is lifted along an osteotomy, and "
                         "tissue pinned to two parts that move apart would be "
-                        "torn. 0: every contact is a join point.");
+                        "torn. A nonzero margin reaches at least one voxel "
+                        "beyond the kerf, so that coarse voxels detach the "
+                        "tissue in the kerf too. 0: every contact is a join "
+                        "point.");
       prm.declare_entry("Minimum part volume",
                         "500",
                         Patterns::Double(0.),
