@@ -44,6 +44,8 @@ main(int argc, char **argv)
     "post-operative skull by ICP\n"
     "       softface register SCENE.prm   a post-operative CT registered to "
     "the pre-operative one\n"
+    "       softface preview SCENE.prm    pictures of the CT with labels, bone "
+    "parts, cuts, seeds, region\n"
     "       softface serve SCENE.prm      a browser page to move the bones "
     "and see the face (Serve)\n"
     "       softface --print-parameters   print every parameter with its "
@@ -63,7 +65,8 @@ main(int argc, char **argv)
           if (stage == "serve")
             return softface::Serve::serve(argv[2], std::cout);
           if (stage != "phantom" && stage != "segment" && stage != "mesh" &&
-              stage != "postop" && stage != "plan" && stage != "register")
+              stage != "postop" && stage != "plan" && stage != "register" &&
+              stage != "preview")
             {
               std::cerr << usage;
               return 2;

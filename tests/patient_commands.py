@@ -6,6 +6,8 @@
   softface mesh      the bone parts and the tetrahedral mesh; run again, every stage is reused
   softface postop    the post-operative skull, each bone part moved by the scene's Planning
   softface plan      the Planning recovered from that skull by ICP: the scene's own motions
+  softface preview   the pictures of the CT with its labels, bone parts, cuts and seed points
+                     (the earlier stages reused); on a scene without a patient, an error
   softface register  a post-operative CT (the phantom's, its voxel-to-world map shifted by a
                      known translation) registered to the pre-operative one: the shift, undone
 
@@ -80,6 +82,22 @@ check("mesh: mesh.vtu written (1: yes)", float(os.path.isfile(os.path.join(stage
 output = run("mesh")
 check("mesh again: stages reused (phantom, segmentation, mesh)",
       len(re.findall(r": reused ", output)), 3, 3)
+
+output = run("preview")
+check("preview: stages reused (phantom, segmentation)", len(re.findall(r": reused ", output)), 2,
+      2)
+for picture in ("axial", "coronal", "sagittal", "bone_parts_front", "bone_parts_left"):
+    check(f"preview: {picture}.png written (1: yes)", float(os.path.isfile(
+        os.path.join(stages, "preview", picture + ".png"))), 1, 1)
+with open(os.path.join(work, "no_patient.prm"), "w") as f:
+    f.write(text.replace("set Mesh source   = patient", "set Mesh source   = file"))
+result = subprocess.run([softface, "preview", "no_patient.prm"], cwd=work, capture_output=True,
+                        text=True)
+print("softface preview on a scene without a patient: exit code", result.returncode, "|",
+      result.stderr.strip())
+check("preview without a patient: exit code", result.returncode, 1, 1)
+check("preview without a patient: the message says so (1: yes)",
+      float("'softface preview' runs the patient stages" in result.stderr), 1, 1)
 
 run("postop")
 run("plan")

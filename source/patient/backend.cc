@@ -6,6 +6,7 @@
 #include <softface/patient/backend.h>
 #include <softface/patient/image_io.h>
 #include <softface/patient/planning_recovery.h>
+#include <softface/patient/preview.h>
 
 namespace softface
 {
@@ -75,6 +76,7 @@ softface_patient_backend()
                                    std::ostream &)>(&build_patient_model);
     b.register_post_operative = &register_post_operative;
     b.skull_stage             = &skull_stage;
+    b.preview                 = &preview;
     b.read_surface            = &read_surface;
     b.write_surface =
       static_cast<void (*)(const TriangleSurface &,

@@ -55,6 +55,14 @@ namespace softface
       }
     } // namespace
 
+    std::string
+    preview_hint(const std::string &scene_file)
+    {
+      return " Run 'softface preview " +
+             (scene_file.empty() ? std::string("SCENE.prm") : scene_file) +
+             "' to see the seed points, cuts and bone parts.";
+    }
+
     bool
     Cut::in_box(const Vec3 &x) const
     {
@@ -400,7 +408,8 @@ namespace softface
                 std::ostringstream m;
                 m << "Osteotomy: the seed point (" << seed[0] << ", " << seed[1]
                   << ", " << seed[2] << ") of segment '" << segments[s].name
-                  << "' lies in no bone (none within 5 mm).";
+                  << "' lies in no bone (none within 5 mm)."
+                  << preview_hint(prm.scene_file);
                 throw Error(m.str());
               }
             const auto taken = segment_of_piece.find(found);
@@ -414,7 +423,8 @@ namespace softface
                                  state,
                                  seed_voxel[taken->second],
                                  seed_voxel[s],
-                                 prm));
+                                 prm) +
+                preview_hint(prm.scene_file));
             segment_of_piece[found] = s;
           }
         const double voxel = labels.voxel_volume();
@@ -427,7 +437,8 @@ namespace softface
                 << " cm^3 (at " << describe(piece_example[p])
                 << ") belongs to no segment; give it a segment with a seed "
                    "point "
-                   "in it, or change the cuts.";
+                   "in it, or change the cuts."
+                << preview_hint(prm.scene_file);
               throw Error(m.str());
             }
 

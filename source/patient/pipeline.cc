@@ -545,7 +545,8 @@ namespace softface
                             "': its bone part touches no soft tissue of the "
                             "mesh, so it would have no join point; move the "
                             "cuts or the region of interest, or drop the "
-                            "segment.");
+                            "segment." +
+                            preview_hint(prm.osteotomy.scene_file));
             write_atomically(work / "bone_parts.nii.gz",
                              [&](const std::string &f) {
                                write_volume(parts, f);

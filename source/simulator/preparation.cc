@@ -104,7 +104,26 @@ namespace softface
     Timer wall;
     state = std::make_unique<Prepared>();
     create_plugins(filename);
-    const std::string needs_cells = build_scene(filename, out);
+    std::string needs_cells;
+    try
+      {
+        needs_cells = build_scene(filename, out);
+      }
+    catch (const Error &e)
+      {
+        // The patient pipeline's errors about seed points, cuts and bone
+        // parts end by pointing at 'softface preview SCENE.prm'
+        // (Patient::preview_hint()); it does not know the scene's file.
+        std::string       message     = e.what();
+        const std::string placeholder = "'softface preview SCENE.prm'";
+        const auto        at          = message.rfind(placeholder);
+        if (at == std::string::npos)
+          throw;
+        message.replace(at,
+                        placeholder.size(),
+                        "'softface preview " + filename + "'");
+        throw Error(message);
+      }
     describe_scene(needs_cells, wall.wall_time(), out);
     prepare_skin(filename, out);
     prepare_outputs(out);

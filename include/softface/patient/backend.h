@@ -15,7 +15,7 @@ namespace softface
   namespace Patient
   {
     /// Raised when Backend or what it passes changes meaning.
-    constexpr std::size_t backend_version = 1;
+    constexpr std::size_t backend_version = 2;
 
     /**
      * The patient pipeline's entry points that the core calls. They need
@@ -57,6 +57,10 @@ namespace softface
                          const std::vector<RigidTransform> &planned,
                          const std::string                 &stage,
                          std::ostream &);
+      /// preview() (preview.h).
+      int (*preview)(const PatientParameters &,
+                     const std::vector<SegmentSeed> &,
+                     std::ostream &);
       /// read_surface() (surface.h).
       TriangleSurface (*read_surface)(const std::string &);
       /// write_surface() with fields (surface.h).

@@ -21,8 +21,10 @@ namespace softface
      * planning.prm); or "register" (the post-operative CT of
      * Scene/Patient/Registration registered to the pre-operative one,
      * written with the post-operative surfaces carried into the
-     * pre-operative frame into @p output_directory). Returns the process
-     * exit code.
+     * pre-operative frame into @p output_directory); or "preview" (the
+     * stages up to the bone parts and pictures of the CT with the labels,
+     * parts, cuts, seed points and region of interest, preview.h). Returns
+     * the process exit code.
      */
     int
     run_command(dealii::ParameterHandler &prm,

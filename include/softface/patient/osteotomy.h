@@ -62,7 +62,18 @@ namespace softface
       /// for the cuts that do not set their own.
       double detached_margin = 3.;
       double min_part_volume = 500.; ///< mm^3
+      /// The scene file the cuts come from, for preview_hint(); empty:
+      /// unknown.
+      std::string scene_file;
     };
+
+    /**
+     * What ends each error about seed points, cuts and bone parts: the
+     * command that draws them (softface preview) on @p scene_file, or on
+     * "SCENE.prm" when it is not known.
+     */
+    std::string
+    preview_hint(const std::string &scene_file);
 
     /**
      * Added by split_bone() to the value of bone within the detached margin

@@ -72,6 +72,9 @@ namespace softface
       TetrahedralMeshParameters   mesh;
       OsteotomyParameters         osteotomy;
       RegistrationStageParameters registration;
+      /// Subsection Preview: the point the preview's slices pass through.
+      bool preview_point_given = false;
+      Vec3 preview_point{{0., 0., 0.}};
     };
 
     /// What the stages made: the mesh file a Scene reads, and figures.

@@ -1,6 +1,7 @@
-// The patient subcommands (softface phantom|segment|mesh|postop|plan|register
-// SCENE.prm): the patient stages of a scene run on their own, for a user who
-// checks each stage's files before meshing or planning.
+// The patient subcommands (softface
+// phantom|segment|mesh|postop|plan|register|preview SCENE.prm): the patient
+// stages of a scene run on their own, for a user who checks each stage's
+// files (or the preview's pictures) before meshing or planning.
 
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
@@ -82,6 +83,9 @@ namespace softface
       patient.parse_parameters(prm,
                                input_directory,
                                output_directory + "/patient");
+      // Errors about seeds, cuts and parts point at the preview of this
+      // very file.
+      patient.osteotomy.scene_file = filename;
       for (const std::string &name :
            Utilities::split_string_list(prm.get("Bone segments")))
         {
@@ -104,6 +108,8 @@ namespace softface
           backend().register_post_operative(patient, output_directory, out);
           return 0;
         }
+      if (stage == "preview")
+        return backend().preview(patient, seeds, out);
       if (stage == "postop" || stage == "plan")
         return plan_from_skull(prm, filename, stage, patient, seeds, out);
       const auto model = backend().build_patient_model(

@@ -129,6 +129,22 @@ namespace softface
         prm.leave_subsection();
       }
 
+      // The Scene/Patient/Preview subsection ('softface preview').
+      void
+      declare_preview(ParameterHandler &prm)
+      {
+        prm.enter_subsection("Preview");
+        prm.declare_entry(
+          "Point",
+          "",
+          Patterns::Anything(),
+          "The point 'x, y, z' (mm, patient frame) that the axial, coronal "
+          "and sagittal slices of 'softface preview' pass through. Empty: "
+          "the centre of the region of interest's box where it lies in the "
+          "CT, else the centre of the CT.");
+        prm.leave_subsection();
+      }
+
       // The Scene/Patient/Mesh subsection.
       void
       declare_mesh_parameters(ParameterHandler &prm)
@@ -248,6 +264,7 @@ namespace softface
       PhantomParameters::declare_parameters(prm);
       declare_segmentation_parameters(prm);
       declare_region_of_interest(prm);
+      declare_preview(prm);
       declare_mesh_parameters(prm);
       OsteotomyParameters::declare_parameters(prm, cut_names);
       RegistrationStageParameters::declare_parameters(prm);
@@ -354,6 +371,13 @@ namespace softface
       mesh.sliver_bound          = prm.get_double("Sliver bound");
       mesh.conforming_interfaces = prm.get_bool("Conforming tissue interfaces");
       mesh.seed                  = prm.get_integer("Seed");
+      prm.leave_subsection();
+
+      prm.enter_subsection("Preview");
+      const std::string point = prm.get("Point");
+      preview_point_given     = !Utilities::trim(point).empty();
+      if (preview_point_given)
+        preview_point = parse_vec3(point, "Scene/Patient/Preview/Point");
       prm.leave_subsection();
 
       osteotomy.parse_parameters(prm);
