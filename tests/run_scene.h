@@ -46,6 +46,30 @@ namespace softface_tests
     return exit_code;
   }
 
+  /**
+   * Run the phantom patient scene tests/@p prm_name through the simulator
+   * and check what every patient run needs: exit code 0, between 4000 and
+   * 16000 tetrahedra, at least @p min_join_points join points per segment.
+   */
+  inline void
+  run_patient_scene(Simulator         &simulator,
+                    const std::string &prm_name,
+                    const double       min_join_points)
+  {
+    std::ostringstream out, err;
+    const int exit_code = simulator.run(source_file(prm_name), out, err);
+    check_equal("exit code", exit_code, 0);
+    const Scene &scene = simulator.scene();
+    check_within(
+      "tetrahedra", scene.triangulation.n_active_cells(), 4000, 16000, 9);
+    for (unsigned int s = 0; s < scene.segments.size(); ++s)
+      check_within(scene.segments[s].name + ": join points",
+                   scene.n_join_vertices(s),
+                   min_join_points,
+                   1e9,
+                   9);
+  }
+
   /// A patient run's motion: the largest |u - planned| over the join points
   /// and the largest |u| over the free points (mm).
   struct JoinAndFreeMotion
