@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What accuracy costs in time (issue 5): every model's error against a
+# What accuracy costs in time: every model's error against a
 # converged quadratic reference and its setup and solve time, for the cube
 # benchmark with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation, plus
 # the seed's MTM precision study. Shows "case i of N, elapsed, estimate".

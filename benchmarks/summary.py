@@ -52,3 +52,12 @@ def write_rows(path, rows, fieldnames=None):
         w = csv.DictWriter(f, fieldnames=fieldnames or list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
+
+
+def measured_at(cpu):
+    """The reproduction line's second half: the commit the code was at and the
+    machine, e.g. "Measured at commit <hash> on AMD EPYC, 2 cores."."""
+    import subprocess
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip() or "unknown"
+    return f"Measured at commit {commit} on {cpu}, {os.cpu_count()} cores."

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Compare two runs of the accuracy study, row by row, at the precision the
 report prints (3 significant digits): which figures reproduced and which did
-not. A re-run must reproduce every figure or explain the change (issue 11).
+not. A re-run must reproduce every figure or explain the change.
 
 usage: compare.py OLD.csv NEW.csv [--scenes KEY,...]
 

@@ -122,6 +122,22 @@ def scene_sections(path):
     return sections
 
 
+def kept_prose(path, heading="## What the numbers show"):
+    """The hand-written sections of an earlier report ('## What the numbers
+    show' and '## Limits', up to the next '## ' heading): what the figures
+    mean is written by hand and kept when the figures are re-made; re-read
+    it against the new figures."""
+    if not os.path.exists(path):
+        return []
+    kept, inside = [], False
+    for line in open(path).read().split("\n"):
+        if line.startswith("## "):
+            inside = line in (heading, "## Limits")
+        if inside:
+            kept.append(line)
+    return kept
+
+
 def csv_rows(path):
     if not os.path.exists(path):
         return []
@@ -170,11 +186,19 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
             for r in mine:
                 w.writerow(r)
 
+    prose = kept_prose(md_path)
     md = ["# What accuracy costs in time", "",
+          "Which model and setting reach a given accuracy (90th percentile of the error "
+          "against a converged quadratic Neo-Hooke reference) in the least time, on the "
+          "paper's cube with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation.", "",
+          f"Reproduce: `{command.strip()}` (about 2.4 hours of one core; `--jobs 2` runs two "
+          "cases at once, `--scenes` a subset).", "",
+          f"Measured on {machine()}; each scene's section names the commit its runs were "
+          "built from.", "",
           "One softface process per case, on one thread (`Models/Threads = 1`; OpenBLAS "
           "and ML single-threaded). Times are softface's own setup and solve wall times of "
           "the model (mesh generation and file output excluded). Each scene's section says "
-          "how and when it was run: the scenes can be run apart (`--scenes`), and with "
+          "how it was run: the scenes can be run apart (`--scenes`), and with "
           "`--jobs 2` two cases run at once and share the machine's memory bandwidth.", "",
           "Errors are |u - u_ref| in mm at the free vertices of the coarsest mesh "
           "(every run evaluated there by its shape functions), against the reference: "
@@ -273,6 +297,7 @@ def write_accuracy(results, command, scenes, rows, reference_rows, linear_p2_row
     md += ["![error against time](accuracy_vs_time.png)", "",
            "Plot: 90th-percentile error against setup + solve time, every run a marker, "
            "each model's Pareto front a line; dashed lines at the table's accuracies.", ""]
+    md += prose
     with open(md_path, "w") as f:
         f.write("\n".join(md))
 
@@ -322,13 +347,17 @@ def write_precision(results, command, scenes, precision, keep=()):
                                   history=np.array(history) if history else None)
     precision = {s["key"]: kept.get(s["key"], precision.get(s["key"])) for s in scenes
                  if s["key"] in kept or s["key"] in precision}
-    md = ["# Precision of the mass tensor model (seed 2.3.5, Table 1, Fig. 1)", "",
-          f"Made by `{command}` on {machine()}; a scene run apart (`--scenes`) keeps the "
-          "others' rows from their last run (accuracy_vs_time.md says when each ran).", "",
+    prose = kept_prose(md_path)
+    md = ["# Precision of the mass tensor model (Mollemans et al. 2007, 2.3.5, Table 1, Fig. 1)", "",
+          "How the mass tensor model's precision falls with its sweeps, and whether the "
+          "paper's rule (G_max < 0.001 mm per sweep gives P_min < 0.3 mm) holds on the cube.", "",
+          f"Reproduce: `{command.strip()}`.", "",
+          f"Measured on {machine()}; the commit of each scene's runs is listed below the table "
+          "(a scene run apart with `--scenes` keeps the others' rows from their last run).", "",
           "The MTM is swept with every free point updated in every sweep (Gauss-Seidel, no "
           "active set) until all gradients fall below 1e-5 mm per sweep; after every sweep "
           "softface measures the distance of each free point to the converged answer of the "
-          "same equations (sparse direct solve): the largest is the seed's minimal "
+          "same equations (sparse direct solve): the largest is the paper's minimal "
           "precision P_min, the mean is P_mean; G_max is the largest gradient (mean step "
           "over the last 10 sweeps, mm per sweep).", "",
           "| scene | tets | vertices | sweeps to P_min < 0.3 mm | P_mean there (mm) | "
@@ -369,13 +398,14 @@ def write_precision(results, command, scenes, precision, keep=()):
     sections = scene_sections(os.path.join(results, "accuracy_vs_time.md"))
     made = []
     for key, p in precision.items():
-        line = next((x for x in sections.get(key, []) if x.startswith("Made by")), None)
+        line = next((x for x in sections.get(key, []) if x.startswith("Measured by")), None)
         if line:
             made.append(f"- {p['scene']['title']}: {line}")
     md += [""] + made if made else []
-    md += ["", "The seed (five patients, Table 1) found P_min < 0.3 mm when G_max fell "
-           "below 0.001 and P_mean about 0.039 mm there.", "",
-           "![precision against sweeps](mtm_precision.png)", ""]
+    md += ["", "![precision against sweeps](mtm_precision.png)", ""]
+    md += prose or ["## What the numbers show", "",
+                    "- The paper (five patients, Table 1) found P_min < 0.3 mm when G_max fell "
+                    "below 0.001 and P_mean about 0.039 mm there.", ""]
     with open(md_path, "w") as f:
         f.write("\n".join(md))
     with open(csv_path, "w", newline="") as f:

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """What accuracy costs in time: every model's error against a converged
-reference and its time, side by side (issue 5). Called by
+reference and its time, side by side. Called by
 benchmarks/run_all.sh, which builds softface first.
 
-For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
+For each scene (the paper's cube with a 6 mm lift, a 16.7 mm lift, and a
 30 degree rotation of the inner cube):
   1. evaluation points: the free vertices of the coarsest mesh;
   2. the reference: 'reference fem' (Neo-Hooke on quadratic tetrahedra) on
@@ -25,7 +25,7 @@ For each scene (the seed's cube with a 6 mm lift, a 16.7 mm lift, and a
      evaluated at the same points;
   5. error statistics (median, 90%, 95%, max of |u - u_ref| in mm), Pareto
      tables and a plot.
-Then the MTM precision study (seed 2.3.5) on the same three scenes.
+Then the MTM precision study (Mollemans et al. 2007, 2.3.5) on the same three scenes.
 
 Writes accuracy_vs_time.{md,csv,png} and mtm_precision.{md,csv,png} to
 doc/results/ (the quick mode to build/benchmarks/accuracy/quick/results/).
@@ -50,7 +50,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 HERE = os.path.join(ROOT, "benchmarks", "accuracy")
 SOFTFACE = os.environ.get("SOFTFACE", os.path.join(ROOT, "build", "softface"))
 
-# The seed's cube: outer faces held, the inner cube [35, 45]^3 is the bone.
+# The paper's cube: outer faces held, the inner cube [35, 45]^3 is the bone.
 EDGE, INNER_LOW, INNER_HIGH = 80.0, 35.0, 45.0
 
 SCENES = [
@@ -272,8 +272,7 @@ def run_text(scene_cases):
         last = max(last, os.path.getmtime(wall))
         if os.path.exists(load):
             loads.append(float(open(load).read()))
-    day = time.strftime("%Y-%m-%d", time.localtime(last)) if last else "?"
-    text = (f"Made by {'; '.join(records) or '?'} on {report.machine()}, finished {day}: "
+    text = (f"Measured by {'; '.join(records) or '?'} on {report.machine()}: "
             f"{len(walls)} softface runs took {sum(walls) / 60:.1f} min of wall time in all")
     if missing:
         text += f" ({missing} cases have no record of their run)"

@@ -30,11 +30,15 @@ def main(csv_file, results):
         f.write(open(csv_file).read())
 
     lines = ["# Build time: softface and its tests from nothing", "",
-             "Measured with `benchmarks/build_time/run.sh` at " + commit +
-             " on " + machine + ": the same commit built twice, one after "
-             "the other, without ccache, with `cmake --build -j2` (the "
-             "executable, the core and patient libraries, both test "
-             "drivers).", "",
+             "How long a newcomer waits for softface, its libraries and its "
+             "test drivers built from nothing, with and without debug "
+             "information and precompiled headers.", "",
+             "Reproduce: `benchmarks/build_time/run.sh` (about 45 min on 2 "
+             "cores: two builds from nothing).", "",
+             "Measured at commit " + commit + " on " + machine + ".", "",
+             "The same commit is built twice, one after the other, without "
+             "ccache, with `cmake --build -j2` (the executable, the core and "
+             "patient libraries, both test drivers).", "",
              "| configuration | wall s | user s | system s | build folder MB |",
              "|---|---|---|---|---|"]
     for name in ("plain", "default"):
@@ -45,16 +49,20 @@ def main(csv_file, results):
     p, d = by["plain"], by["default"]
     cpu_p = float(p["user_s"]) + float(p["system_s"])
     cpu_d = float(d["user_s"]) + float(d["system_s"])
-    lines += ["",
-              f"The default configuration takes {float(d['wall_s']) / float(p['wall_s']):.2f}"
+    lines += ["", "![build time](build_time.png)", "",
+              "## What the numbers show", "",
+              f"- The default configuration takes {float(d['wall_s']) / float(p['wall_s']):.2f}"
               f" of the plain one's wall time and {cpu_d / cpu_p:.2f} of its "
               "processor time; its build folder is "
               f"{float(d['build_folder_mb']) / float(p['build_folder_mb']):.2f} "
-              "of the size. Debug information is back with "
+              "of the size.",
+              "- Debug information is back with "
               "`-DSOFTFACE_DEBUG_INFO=ON` (for a debugger or perf's line "
               "numbers), the precompiled headers off with "
               "`-DSOFTFACE_PRECOMPILED_HEADERS=OFF`.", "",
-              "![build time](build_time.png)", ""]
+              "## Limits", "",
+              "- One build of each configuration on a shared 2-core machine; "
+              "the wall times move with what else runs.", ""]
     open(os.path.join(results, "build_time.md"), "w").write("\n".join(lines))
 
     fig, ax = plt.subplots(figsize=(7, 2.6))

@@ -238,6 +238,12 @@ def write(rows, args, binaries, bounds):
             "tetrahedra", "sliver perturbation", "sliver exudation",
             "mesh.vtu md5", "same mesh as the first idle run"]
     md = ["# The same scene's mesh on an idle and on a busy machine", "",
+          "Whether a patient scene makes the same mesh, bit for bit, on an idle "
+          "machine and on a busy one.", "",
+          f"Reproduce: `{command}`.", "",
+          f"Measured at commit {commit} on {cpu}, {os.cpu_count()} cores; "
+          "each binary of the table is named by the commit it was built from.",
+          "",
           f"The mesh stage of `{args.scene}` (`softface mesh`: bone parts, "
           "CGAL Mesh_3, sliver perturbation and exudation) run under five "
           "conditions one after the other, its `mesh.vtu` compared by md5 "
@@ -245,16 +251,14 @@ def write(rows, args, binaries, bounds):
           "labels are made once per case and reused. *mesh stage s* is "
           f"wall-clock time; the busy conditions share the {os.cpu_count()} "
           "cores with the load.", "",
-          f"Command: `{command}`; commit {commit}; "
-          f"{os.cpu_count()} cores, {cpu}.", "",
-          f"![mesh stage time per condition]({args.name}.png)", "",
           "| " + " | ".join(cols) + " |",
           "|" + "---|" * len(cols)]
     for r in rows:
         md.append("| " + " | ".join(
             str(r[c])[:10] if c == "mesh.vtu md5" else str(r[c])
             for c in cols) + " |")
-    md += ["", "What it shows:", ""]
+    md += ["", f"![mesh stage time per condition]({args.name}.png)", "",
+           "Runs that made the first idle run's mesh:", ""]
     for bound in bounds:
         for name, _ in binaries:
             mine = [r for r in rows if r["softface"] == name and

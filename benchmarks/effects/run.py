@@ -1,4 +1,4 @@
-"""What each effect changes and what it costs (issue 13); see run.sh.
+"""What each effect changes and what it costs; see run.sh.
 
 Every (scene, configuration, model) runs in its own softface process, the
 repetitions interleaved so that a slow minute of a shared machine hits every
@@ -68,7 +68,7 @@ def file_name(model):
 def scene_text(scene, config, model, output, current):
     spec = SCENES[scene]
     text = open(os.path.join(ROOT, spec["prm"])).read()
-    # The skin mapping and its truth (issue 14) are not effects, and the
+    # The skin mapping and its truth are not effects, and the
     # baseline has neither: left out, so that time and memory compare alike.
     text = re.sub(r"\nsubsection Skin\n.*?\nend\n", "\n", text, flags=re.S)
     text += f"""
@@ -261,10 +261,21 @@ def report(rows, scenes, arguments, baseline_name):
         return r["setup_s"] + r["solve_s"]
 
     out_csv = []
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
+                            text=True, cwd=os.path.dirname(os.path.abspath(__file__))
+                            ).stdout.strip()
     md = ["# Effects: what each changes and what it costs",
           "",
-          f"Command: `benchmarks/effects/run.sh {arguments}`".replace(" `", "`", 0),
-          ""] + ([f"Baseline: {baseline_name}.", ""] if baseline_name else []) + [
+          "What heterogeneous tissue, gravity, sliding contact and separated lips change in "
+          "each model's answer on the cube and on the phantom patient, what they cost in time "
+          "and memory, and whether an empty Effects section costs anything.",
+          "",
+          f"Reproduce: `{('benchmarks/effects/run.sh ' + arguments).strip()}` (about 7 min).",
+          "",
+          f"Measured at commit {commit}"
+          + (f" against a baseline build of {baseline_name} (without the effects)"
+             if baseline_name else "") + f", {os.cpu_count()} cores.",
+          "", "![what each effect changes and costs](effects.png)", ""] + [
           "Every model in its own softface process; times are softface's setup + solve "
           "(median of the repetitions, min-max in brackets), memory the process's peak. "
           "Differences are to the same scene and model without effects: over the skin's "
@@ -335,8 +346,16 @@ def report(rows, scenes, arguments, baseline_name):
                                 "peak_memory_mb": statistics.median(r["peak_memory_mb"] for r in b),
                                 "max_diff_mm": "", "p90_diff_mm": "", "diff_vertices": ""})
             md.append("")
-    with open(os.path.join(RESULTS, "effects.md"), "w") as f:
-        f.write("\n".join(md) + "\n")
+    # What the numbers show, written by hand below its heading, stays.
+    notes_heading = "## What the numbers show"
+    path = os.path.join(RESULTS, "effects.md")
+    notes = ""
+    if os.path.exists(path):
+        old = open(path).read()
+        if notes_heading in old:
+            notes = old[old.index(notes_heading):]
+    with open(path, "w") as f:
+        f.write("\n".join(md) + "\n" + ("\n" + notes if notes else ""))
     with open(os.path.join(RESULTS, "effects.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(out_csv[0].keys()))
         w.writeheader()

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What each effect changes and what it costs (issue 13): the seed's cube
+# What each effect changes and what it costs: the paper's cube
 # (prm/default.prm) and the phantom patient (prm/patient.prm) with Effects
 # empty, each effect alone and both, every model in its own process (so that
 # its peak memory is its own), repetitions interleaved. Writes

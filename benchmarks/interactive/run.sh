@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Re-planning (issue 17): a phantom patient's scene (prm/patients/P1.prm, ~119k tetrahedra, its
+# Re-planning: a phantom patient's scene (prm/patients/P1.prm, ~119k tetrahedra, its
 # dense skin) swept over PLANS plans of the mandible's set-back, linear fem (cg amg) and mass
 # tensor, once solving every plan and once from the response basis; then `softface serve` on the
 # same scene with its page in headless Chromium (slider-to-face latency, a screenshot); writes

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Predictors, load paths and KINSOL against softface's Newton loop and CalculiX (issue 18).
+"""Predictors, load paths and KINSOL against softface's Newton loop and CalculiX.
 
     /usr/bin/python3 study.py [CASE_DIR ...] [--softface PATH] [--baseline PATH]
                               [--baseline-name NAME] [--out DIR] [--timeout S]
@@ -14,7 +14,7 @@ Neo-Hooke: scene_neo_hooke.prm) it runs softface once per variant
 
 (12 variants, 'Indefinite tangent = cut back'; the defaults are rigid, tangent, newton), the
 defaults with 'Indefinite tangent = lu' and 'lu and unstable', and, with --baseline, the same scene
-on another softface build (the hand loop before this issue: linear path, the tangent predictor
+on another softface build (the hand-written loop: linear path, the tangent predictor
 taken whole). One process at a time, one thread each, interleaved by case so that machine
 load falls on all variants alike. Writes DIR/nonlinear_solvers.{md,csv,png} (DIR defaults to
 doc/results of this repository); findings.md beside this script is copied into the Markdown.
@@ -213,13 +213,17 @@ def write_results(out, cases, rows, run):
             w.writerow(r)
 
     md = ["# Nonlinear solvers: predictors, load paths and KINSOL against the hand loop and "
-          "CalculiX (issue 18)", "",
-          "Made by `%s` at %s (repository at %s; binary %s), %.0f minutes, load average %.1f "
-          "before and %.1f after (2 cores; one softface process at a time, one thread)." % (
-              run["command"], run["started"], run["commit"], run["binary"], run["minutes"],
-              run["load_before"][0], run["load_after"][0]),
-          "Data: `nonlinear_solvers.csv`; plot: `nonlinear_solvers.png`. The cases are made by "
-          "`benchmarks/nonlinear_solvers/make_case.py` (README there).", ""]
+          "CalculiX", "",
+          "How far St. Venant-Kirchhoff and Neo-Hooke solves get on hard cases with each load "
+          "path, predictor and corrector (softface's Newton loop or KINSOL), against CalculiX "
+          "NLGEOM on the same meshes, and what each costs.", "",
+          "Reproduce: `%s` (%.0f minutes)." % (run["command"], run["minutes"]), "",
+          "Measured at commit %s (%s) on 2 cores, one softface process at a time, one thread; "
+          "load average %.1f before and %.1f after." % (
+              run["commit"], run["binary"], run["load_before"][0], run["load_after"][0]), "",
+          "Data: `nonlinear_solvers.csv`. The cases are made by "
+          "`benchmarks/nonlinear_solvers/make_case.py` (README there).", "",
+          "![load reached and Newton iterations per variant](nonlinear_solvers.png)", ""]
     findings = os.path.join(HERE, "findings.md")
     if os.path.exists(findings):
         md += [open(findings).read().rstrip(), ""]

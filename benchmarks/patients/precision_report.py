@@ -1,4 +1,4 @@
-"""The seed's precision study of the mass tensor model (2.3.5, Table 1,
+"""The paper's precision study of the mass tensor model (2.3.5, Table 1,
 Fig. 1) on the phantom patients.
 
 Called by report.py: reads WORK_DIR/P<n>/precision_<factor>/history.csv
@@ -14,9 +14,9 @@ import numpy as np
 
 import summary  # benchmarks/summary.py (report.py puts it on the path)
 
-# Relaxation factors run.sh runs: the seed's plain update and the default.
-FACTORS = [("1", "1 (seed)"), ("auto", "auto (1.8, default)")]
-# The seed's Table 1 (five patients): P_min < 0.3 mm once G_max < 0.001
+# Relaxation factors run.sh runs: the paper's plain update and the default.
+FACTORS = [("1", "1 (paper)"), ("auto", "auto (1.8, default)")]
+# The paper's Table 1 (five patients): P_min < 0.3 mm once G_max < 0.001
 # mm per sweep, with P_mean about 0.039 mm there.
 SEED_GRADIENT = 0.001
 SEED_PRECISION = 0.3
@@ -44,16 +44,16 @@ def sections(work, results, patients):
     found = {(p, f): history(work, p, f) for p in patients for f, _ in FACTORS}
     if not any(h is not None for h in found.values()):
         return []
-    md = ["## Precision of the mass tensor model (seed Table 1, Fig. 1)\n",
-          "The seed's precision study on each patient's mesh and planning: the mass "
+    md = ["## Precision of the mass tensor model (the paper's Table 1, Fig. 1)\n",
+          "The paper's precision study on each patient's mesh and planning: the mass "
           "tensor model alone, every free point updated in every sweep (Gauss-Seidel, "
           "no active set) until every gradient is below 1e-5 mm per sweep; after each "
-          "sweep the largest (P_min, the seed's minimal precision) and mean (P_mean) "
+          "sweep the largest (P_min, the paper's minimal precision) and mean (P_mean) "
           "distance of a free point to the converged answer of the same equations "
           "(sparse direct solve), and the largest gradient G_max (mean step of a "
-          "point over its last 10 sweeps, mm per sweep). With the seed's plain "
+          "point over its last 10 sweeps, mm per sweep). With the paper's plain "
           "update (relaxation factor 1) and softface's default over-relaxation. The "
-          "seed (five real patients) found P_min < 0.3 mm once G_max < 0.001 mm per "
+          "paper (five real patients) found P_min < 0.3 mm once G_max < 0.001 mm per "
           "sweep, with P_mean about 0.039 mm there.\n",
           "| patient | relaxation | sweeps to P_min < 0.3 mm | P_mean there (mm) | "
           "G_max there (mm/sweep) | sweeps to G_max < 0.001 | P_min there (mm) | "
@@ -92,14 +92,14 @@ def sections(work, results, patients):
                   if all(found[(p, f)] is not None for f, _ in FACTORS)), None)
     if shown is not None:
         figure(found, shown, os.path.join(results, "patients_precision.png"))
-        md.append(f"Fig. 1 of the seed for {shown}: P_min, P_mean and G_max against "
+        md.append(f"Fig. 1 of the paper for {shown}: P_min, P_mean and G_max against "
                   "the sweeps, both relaxation factors.\n")
         md.append("![precision against sweeps](patients_precision.png)\n")
     return md
 
 
 def seed_claim(rows):
-    """Whether the seed's rule (G_max < 0.001 means P_min < 0.3 mm) held."""
+    """Whether the paper's rule (G_max < 0.001 means P_min < 0.3 mm) held."""
     out = []
     for f, label in FACTORS:
         at = [r for r in rows if r["relaxation_factor"] == f
@@ -113,7 +113,7 @@ def seed_claim(rows):
                    f"per sweep, P_min was below 0.3 mm on {held} of {len(at)} patients "
                    f"(largest {worst['precision_min_at_gradient_mm']:.3g} mm, "
                    f"{worst['patient']}); P_mean there {min(means):.3g} to "
-                   f"{max(means):.3g} mm (seed: about 0.039).")
+                   f"{max(means):.3g} mm (the paper: about 0.039).")
     out.append("")
     return out
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The patients benchmark's report: the seed's Table 2 side by side with the
+"""The patients benchmark's report: the paper's Table 2 side by side with the
 ten phantom patients (procedure, tetrahedra, largest soft-tissue motion, each
 model's time), the patient pipeline's figures, and each patient's image.
 
@@ -22,7 +22,7 @@ import skin_report  # noqa: E402
 import precision_report  # noqa: E402
 import timing_report  # noqa: E402
 
-# The seed's Table 2 (Mollemans et al. 2007): procedure, N_tetra, M_max (mm),
+# The paper's Table 2 (Mollemans et al. 2007): procedure, N_tetra, M_max (mm),
 # T_FEM, T_MTM, T_MSM, T_NFEM (s) on a Pentium 4 with 1 GB; None where the
 # paper gives no figure.
 SEED = {
@@ -72,7 +72,7 @@ def commit():
 
 
 def seconds(row):
-    """A model's time as in the seed: setup + solve (s), or None."""
+    """A model's time as in the paper: setup + solve (s), or None."""
     if row is None or row["status"] != "ok":
         return None
     return float(row["setup_s"]) + float(row["solve_s"])
@@ -129,13 +129,20 @@ def main(work, results):
     summary.write_rows(os.path.join(results, "patients.csv"), rows)
 
     md = []
-    md.append("# Ten phantom patients after the seed's Table 2\n")
-    md.append("Made by `benchmarks/patients/run.sh` (scenes "
-              "`prm/patients/P1.prm` ... `P10.prm`, written by "
-              "`benchmarks/patients/make_scenes.py`; softface at "
-              f"{commit()}) on "
-              f"{platform.machine()} / {os.cpu_count()} cores; figures from "
-              "each run's `summary.csv` and `patient.csv`. CSV: "
+    md.append("# Ten phantom patients after the paper's Table 2\n")
+    md.append("Whether every model runs on ten phantom patients made after "
+              "the paper's Table 2, what each costs, how far each prediction "
+              "lies from a model-made post-operative skin, and which of the "
+              "paper's conclusions these numbers confirm and which they "
+              "cannot resolve.\n")
+    md.append("Reproduce: `benchmarks/patients/run.sh` (about 9 min, plus "
+              "about an hour for the post-operative truths the first "
+              "time).\n")
+    md.append(f"Measured at commit {commit()} on {platform.machine()}, "
+              f"{os.cpu_count()} cores.\n")
+    md.append("Scenes `prm/patients/P1.prm` ... `P10.prm`, written by "
+              "`benchmarks/patients/make_scenes.py`; figures from each "
+              "run's `summary.csv` and `patient.csv`. CSV: "
               "[patients.csv](patients.csv).\n")
     # What the person who ran the benchmark says of this run (the machine's
     # load, patients run separately), from WORK_DIR/run_note.md.
@@ -147,14 +154,14 @@ def main(work, results):
               "bilateral sagittal split and genioplasty into six bone parts "
               "(cranium, maxilla, two rami, mandible, chin), the soft tissue "
               "below the eyes meshed by CGAL Mesh_3, and moved by the "
-              "procedure's planning. The seed's patients were real; its "
+              "procedure's planning. The paper's patients were real; its "
               "times were measured on a Pentium 4 (2007), ours on this "
               "machine. Time = setup + solve, in seconds; M_max = the "
               "largest displacement of any soft-tissue vertex (linear "
               "FEM).\n")
-    md.append("| patient | procedure | N_tetra seed | ours | M_max seed (mm) "
-              "| ours | T_FEM seed | ours | T_MTM seed | ours | T_MSM seed | "
-              "ours | T_NFEM seed | ours |")
+    md.append("| patient | procedure | N_tetra paper | ours | M_max paper (mm) "
+              "| ours | T_FEM paper | ours | T_MTM paper | ours | T_MSM paper | "
+              "ours | T_NFEM paper | ours |")
     md.append("|---" * 14 + "|")
 
     def t(r, key):
@@ -239,6 +246,14 @@ def main(work, results):
         if os.path.exists(os.path.join(results, png)):
             md.append(f"### {r['patient']}: {r['procedure']}\n")
             md.append(f"![{r['patient']}]({png})\n")
+    # What the numbers show and the limits, written by hand below their
+    # heading, stay (re-read them against the new figures).
+    notes_heading = "## What the numbers show"
+    old_path = os.path.join(results, "patients.md")
+    if os.path.exists(old_path):
+        old = open(old_path).read()
+        if notes_heading in old:
+            md.append(old[old.index(notes_heading):].rstrip("\n") + "\n")
     with open(os.path.join(results, "patients.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     print("patients: wrote", os.path.join(results, "patients.md"))

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The patients benchmark's skin part (seed 3.4-3.6): how far each
+"""The patients benchmark's skin part (the paper's 3.4-3.6): how far each
 model's predicted skin is from the post-operative skin, and what the
 volume/surface mapping costs.
 
@@ -25,12 +25,12 @@ import summary  # noqa: E402  (benchmarks/summary.py, on report.py's path)
 MODELS = ["linear fem", "mass tensor", "mass spring", "nonlinear fem"]
 SEED_NAMES = {"linear fem": "FEM", "mass tensor": "MTM", "mass spring": "MSM",
               "nonlinear fem": "NFEM"}
-# The seed's Table 3: 50/90/95 % percentiles (mm) averaged over its 10
+# The paper's Table 3: 50/90/95 % percentiles (mm) averaged over its 10
 # patients, real post-operative CTs.
 SEED_TABLE3 = {"linear fem": (0.60, 1.51, 1.78), "mass tensor": (0.60, 1.48, 1.75),
                "mass spring": (0.64, 1.67, 1.95),
                "nonlinear fem": (0.63, 1.71, 2.05)}
-# The seed's Table 4 (ms, Pentium 4): inverse distance A, B; shape functions
+# The paper's Table 4 (ms, Pentium 4): inverse distance A, B; shape functions
 # A, B.
 SEED_TABLE4 = {"P1": (187, 547, 3813, 1141), "P2": (63, 109, 859, 219),
                "P3": (78, 157, 1188, 344), "P4": (125, 281, 2203, 688),
@@ -137,10 +137,10 @@ def truth_error(results):
 
 
 def conclusions(data, row_of, results):
-    """The seed's conclusions (3.6) held against these numbers: the 90 %
+    """The paper's conclusions (3.6) held against these numbers: the 90 %
     percentile of each model against linear FEM's, patient by patient, in
-    the seed's metric (distances to TPS-RPM correspondences) and the exact
-    one. In the seed's metric a difference counts only where it exceeds both
+    the paper's metric (distances to TPS-RPM correspondences) and the exact
+    one. In the paper's metric a difference counts only where it exceeds both
     the truth's own error and that metric's error (how far its p90 lies from
     the exact one); in the exact metric, where it exceeds the truth's."""
     def p90(p, m, key):
@@ -162,11 +162,11 @@ def conclusions(data, row_of, results):
     seed_floor = max([x for x in (metric_error, truth_floor)
                       if x is not None], default=None)
 
-    md = ["### The seed's conclusions against these numbers\n",
+    md = ["### The paper's conclusions against these numbers\n",
           "The 90 % percentile of each model's distances minus linear FEM's, "
           "patient by patient (mm): mean, smallest, largest, and on how many "
           "patients the difference exceeds what can be resolved; in the "
-          "seed's metric (TPS-RPM correspondences) and the exact one.\n"]
+          "paper's metric (TPS-RPM correspondences) and the exact one.\n"]
     resolution = "**What these truths and these metrics resolve.**"
     if truth:
         resolution += (
@@ -177,13 +177,13 @@ def conclusions(data, row_of, results):
             "extrapolation the truths used here (1x) are about "
             f"{truth['error']:.2g} mm (p90) from their converged answer.")
     if metric_errors:
-        resolution += (f" The seed's metric's p90 lies up to "
+        resolution += (f" The paper's metric's p90 lies up to "
                        f"{metric_error:.2g} mm from the exact p90 (median "
                        f"{np.median(metric_errors):.2g} mm over the patients "
                        "and models).")
     if seed_floor is not None:
         resolution += (f" A difference between two models counts only beyond "
-                       f"{seed_floor:.2g} mm in the seed's metric")
+                       f"{seed_floor:.2g} mm in the paper's metric")
         resolution += (f" and beyond {truth_floor:.2g} mm in the exact one."
                        if truth_floor is not None else ".")
     md.append(resolution + "\n")
@@ -222,14 +222,14 @@ def conclusions(data, row_of, results):
         seed, exact = against_fem(m, seed_key), against_fem(m, exact_key)
         if not seed and not exact:
             continue
-        md.append(f"- *{text}*. Seed's metric: {span(seed)}, "
+        md.append(f"- *{text}*. The paper's metric: {span(seed)}, "
                   f"{verdict(seed, claim, seed_floor)}. Exact: {span(exact)}, "
                   f"{verdict(exact, claim, truth_floor)}.")
     md.append("")
     if truth_floor is not None:
         md.append("The truth is a Neo-Hooke model, the nonlinear FEM's law; "
                   "a difference in the nonlinear FEM's favour says as much "
-                  "about that as about the seed's real faces.\n")
+                  "about that as about the paper's real faces.\n")
     return md
 
 
@@ -263,12 +263,12 @@ def exact_against_closest(data, row_of, results):
           "predicted point's true post-operative position is known: the "
           "exact distance is |predicted - true|. A closest point on the "
           "post-operative skin is never farther than the true partner, so "
-          "closest-point distances underestimate; the seed says so (3.5.1, "
+          "closest-point distances underestimate; the paper says so (3.5.1, "
           "after Chabanas et al. 2004) without a figure. Shape-function "
           "mapping; 50 / 90 / 95 % percentiles (mm), mean over the "
           "patients; *closest / exact*: the closest-point percentile as a "
           "fraction of the exact one; *TPS-RPM*: the distances to the "
-          "corresponding points the seed's metric finds (every measured "
+          "corresponding points the paper's metric finds (every measured "
           "point matched to the post-operative surface by the TPS-RPM "
           "variant, doc/skin.md).\n",
           "| model | closest 50 / 90 / 95 % | exact 50 / 90 / 95 % | closest "
@@ -304,7 +304,7 @@ def exact_against_closest(data, row_of, results):
     md.append(f"At the 90 % percentile, over every patient and model, closest "
               f"points give {min(closest90):.2f} to {max(closest90):.2f} of "
               f"the exact distance (median {np.median(closest90):.2f}): the "
-              "seed's claim that they underestimate, measured."
+              "paper's claim that they underestimate, measured."
               + (f" The TPS-RPM variant gives {min(rpm90):.2f} to "
                  f"{max(rpm90):.2f} (median {np.median(rpm90):.2f})."
                  if rpm90 else "") + "\n")
@@ -361,7 +361,7 @@ def exact_against_closest(data, row_of, results):
 
 
 def partners_section(work, results, patients):
-    """The seed's Fig. 6 for the first patient that has the files: six lip
+    """The paper's Fig. 6 for the first patient that has the files: six lip
     points of linear FEM's prediction and their three partners."""
     for p in patients:
         png = os.path.join("patients", f"{p}_partners.png")
@@ -420,11 +420,11 @@ def sections(work, results, patients):
 
     md = ["## The predicted skins against the post-operative skins\n",
           "Every model's displacement is mapped onto the dense skin surface "
-          "of the CT (seed 3.4) and measured against the post-operative skin "
+          "of the CT (the paper's 3.4) and measured against the post-operative skin "
           "over the skin points within reach of the tetrahedral mesh (the "
           "simulated region of the face) in three ways: signed closest-point "
           "distances (negative: the prediction lies behind it), distances to "
-          "the corresponding points of the seed's TPS-RPM variant, and exact "
+          "the corresponding points of the paper's TPS-RPM variant, and exact "
           "distances to each point's true post-operative position. CSV: "
           "[patients_skin.csv](patients_skin.csv).\n",
           "**What these distances measure.** The phantoms have no "
@@ -433,15 +433,15 @@ def sections(work, results, patients):
           "tetrahedra, compressible Neo-Hooke), skin, fat and muscle with "
           "their own moduli (15, 3, 6 kPa), driven by the planned bone "
           "motions plus a known rigid error per moved segment (0.7 mm and "
-          "0.6 degrees in random directions; seed 3.2: the residual mismatch "
+          "0.6 degrees in random directions; the paper's 3.2: the residual mismatch "
           "between plan and surgery), on the patient's own tetrahedral mesh "
           "(its truth scene `prm/patients/P<n>_truth.prm` meshes it again "
-          "with the same parameters and seed; the two mesh.vtu files are "
+          "with the same parameters and Mesh_3 seed; the two mesh.vtu files are "
           "identical) with quadratic elements; whether that mesh is fine "
           "enough: `truth_refinement.md`. "
           "A distance to it is what the predicting models leave out (the "
           "planning error, tissue layers, large strain, discretisation), "
-          "not the distance to a real patient; the seed's numbers come from "
+          "not the distance to a real patient; the paper's numbers come from "
           "real post-operative CTs.\n"]
 
     if without:
@@ -456,14 +456,14 @@ def sections(work, results, patients):
               "ran, of the 50/90/95 % percentiles (mm) of the distance to the "
               "post-operative skin in three metrics: *closest*, |signed "
               "closest-point distance|; *TPS-RPM*, the distance to the "
-              "corresponding point the seed's metric finds (3.5.1: every "
+              "corresponding point the paper's metric finds (3.5.1: every "
               "measured point matched to the post-operative surface by the "
               "TPS-RPM variant, doc/skin.md); *exact*, the distance to the "
               "point's true post-operative position (the truth moved the same "
-              "skin points). The seed's figures are in its metric, on real "
+              "skin points). The paper's figures are in its metric, on real "
               "patients.\n")
-    md.append("| model | T50 seed | closest | TPS-RPM | exact | T90 seed | "
-              "closest | TPS-RPM | exact | T95 seed | closest | TPS-RPM | "
+    md.append("| model | T50 paper | closest | TPS-RPM | exact | T90 paper | "
+              "closest | TPS-RPM | exact | T95 paper | closest | TPS-RPM | "
               "exact | patients |")
     md.append("|---" * 14 + "|")
     for m in MODELS:
@@ -562,19 +562,19 @@ def sections(work, results, patients):
         md.append("")
         md.append(f"Mean |inverse distance - shape functions| over the "
                   f"patients: {d[0]:.3f} / {d[1]:.3f} / {d[2]:.3f} mm "
-                  f"(50 / 90 / 95 %); the seed found under 0.05 mm for all "
+                  f"(50 / 90 / 95 %); the paper found under 0.05 mm for all "
                   f"three.")
     md.append("")
 
     # Table 4 analogue.
     md.append("### Table 4: what the mapping costs\n")
     md.append("Step A (initialisation, once per scene) and step B (the "
-              "update, on every prediction) of both mappings, ms; the seed's "
+              "update, on every prediction) of both mappings, ms; the paper's "
               "on a Pentium 4 (2007), ours on this machine, one core. Skin "
-              "points: the dense skin of the CT (the seed's skins are not "
+              "points: the dense skin of the CT (the paper's skins are not "
               "given).\n")
-    md.append("| patient | skin points | mapped | IDW A seed | ours | IDW B "
-              "seed | ours | SF A seed | ours | SF B seed | ours |")
+    md.append("| patient | skin points | mapped | IDW A paper | ours | IDW B "
+              "paper | ours | SF A paper | ours | SF B paper | ours |")
     md.append("|---|---|---|---|---|---|---|---|---|---|---|")
     for p in data:
         sf = row_of(p, "mass tensor", "shape functions") or \

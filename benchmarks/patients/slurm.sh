@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The patients benchmark as independent jobs of one Slurm batch (issue 20): an array task per
+# The patients benchmark as independent jobs of one Slurm batch: an array task per
 # patient (its truth, then its four models: `run.sh --no-report P<n>`), then one job that writes
 # the report once every task has ended well (afterok). Writes the two batch scripts into
 # build/benchmarks/patients/slurm/ and submits them with sbatch, or, without sbatch (or with

@@ -1,4 +1,4 @@
-"""Why the seed's timing claims do or do not hold on the phantom patients:
+"""Why the paper's timing claims do or do not hold on the phantom patients:
 its Fig. 2 (the mass tensor model's gain over linear FEM about constant with
 the mesh's size, the mass spring model's time near quadratic in it) and its
 Table 4 (inverse distance mapping much faster than shape functions), taken
@@ -94,8 +94,8 @@ def sections(work, results, patients):
     mappings = mapping_rows(work, patients)
     if not solvers:
         return []
-    md = ["## The seed's timing claims, taken apart\n",
-          "The seed's Fig. 2 has the mass tensor model's gain over linear FEM "
+    md = ["## The paper's timing claims, taken apart\n",
+          "The paper's Fig. 2 has the mass tensor model's gain over linear FEM "
           "about constant with the mesh's size and the mass spring model's "
           "time near quadratic in it; its Table 4 has the inverse distance "
           "mapping about 85 % faster than shape functions. What each time is "
@@ -139,11 +139,11 @@ def sections(work, results, patients):
                           if "mtm_s" in r])
     trend = ("" if ratio is None else
              f" The MTM / FEM time ratio ~ tets^{ratio:.2f}: " +
-             ("about constant, as the seed found." if abs(ratio) < 0.1 else
+             ("about constant, as the paper found." if abs(ratio) < 0.1 else
               "it grows with the mesh, so the mass tensor model's gain over "
-              "linear FEM shrinks (the seed: about constant)." if ratio > 0
+              "linear FEM shrinks (the paper: about constant)." if ratio > 0
               else "it falls with the mesh, so the mass tensor model's gain "
-              "over linear FEM grows (the seed: about constant)."))
+              "over linear FEM grows (the paper: about constant)."))
     md.append("Fitted over the patients (y ~ tets^k; the patients differ in "
               "their planning too, so these mix size with motion; "
               "cube_models.md varies the size alone): " +
@@ -168,7 +168,7 @@ def sections(work, results, patients):
 
 def mapping_section(rows, results):
     md = ["### Step A of the two mappings, taken apart\n",
-          "The seed's Table 4 times step A (initialisation) and step B "
+          "The paper's Table 4 times step A (initialisation) and step B "
           "(update) of each mapping as one figure each. softface's step A, "
           "part by part (s; mass tensor model's run, which maps the same "
           "skin as every model), with the mean number of weights per mapped "
@@ -226,7 +226,7 @@ def mapping_section(rows, results):
         idw_part, idw_share = largest([idw[p] for p in both])
         md.append(f"Inverse distance against shape functions, mean over "
                   f"{len(both)} patients: step A {a:.2f}x, step B {b:.2f}x "
-                  f"the time (the seed's Table 4: {seed_a:.2f}x and "
+                  f"the time (the paper's Table 4: {seed_a:.2f}x and "
                   f"{seed_b:.2f}x on the same patients). Most of step A is "
                   f"'{sf_part}' for shape functions ({sf_share:.0f} %) and "
                   f"'{idw_part}' for inverse distances ({idw_share:.0f} %); "

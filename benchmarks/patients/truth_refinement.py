@@ -139,9 +139,20 @@ def main():
     fig.tight_layout()
     fig.savefig(base + ".png", dpi=110)
 
+    import subprocess
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True,
+                            cwd=os.path.dirname(os.path.abspath(__file__))
+                            ).stdout.strip()
     out = [f"# Is the post-operative truth converged? ({a.patient})", "",
-           f"Made by `{a.command}` on x86_64 / {os.cpu_count()} cores: the "
-           f"truth scene `prm/patients/{a.patient}_truth.prm` (quadratic "
+           "Whether a phantom's post-operative truth (the model-made skin the "
+           "patients benchmark measures every model against) has converged "
+           "with its mesh, and so how small a difference between two models "
+           "it can resolve.", "",
+           f"Reproduce: `{a.command.strip()}` (about 25 min).", "",
+           f"Measured at commit {commit} on x86_64, {os.cpu_count()} cores.",
+           "",
+           f"The truth scene `prm/patients/{a.patient}_truth.prm` (quadratic "
            "compressible Neo-Hooke, skin, fat and muscle, the planning plus "
            "its known error) run on meshes of "
            + ", ".join(f"{lv['factor']}" for lv in levels) +
@@ -164,7 +175,15 @@ def main():
         out.append(f"| {r['coarse']['tets']} | {r['fine']['tets']} | "
                    f"{r['points']} | {r['p50']:.3g} | {r['p90']:.3g} | "
                    f"{r['p95']:.3g} | {r['max']:.3g} |")
-    out += ["", "![truth refinement](truth_refinement.png)", ""]
+    out += ["", "![truth refinement](truth_refinement.png)", "",
+            "## What the numbers show", ""]
+    if len(rows) >= 2 and rows[-1]["p90"] > 0:
+        r0, r1 = rows[-2]["p90"], rows[-1]["p90"]
+        rate = r0 / r1
+        out.append(f"- The change falls {rate:.2f}x per doubling (p90 {r0:.3g}, then "
+                   f"{r1:.3g} mm), so by Richardson extrapolation the factor-1 "
+                   f"truth lies about {r0 * rate / (rate - 1):.2g} mm (p90) from "
+                   "the answer its equations converge to.\n")
     if criterion is None:
         out.append(f"No model distances for {a.patient} in "
                    f"`{a.distances}`: run `benchmarks/patients/run.sh "
@@ -173,7 +192,7 @@ def main():
         met = last <= criterion
         tets = levels[-2]["tets"]
         out.append(
-            f"**Criterion** (the accuracy benchmark's: the last change at "
+            f"- **Criterion** (the accuracy benchmark's: the last change at "
             f"most a tenth of the smallest 90% distance reported): the last "
             f"change's p90 is {last:.3g} mm against {criterion:.3g} mm (a "
             f"tenth of {bound:.3g} mm, {bound_of}): "
@@ -195,7 +214,7 @@ def main():
         doublings = int(np.ceil(np.log(last / criterion) / np.log(rate)))
         finest = levels[-1]
         out.append(
-            "\n**Extrapolated (a model, not a measurement):** the change fell "
+            "\n## Limits\n\n- **Extrapolated (a model, not a measurement):** the change fell "
             f"by {rate:.2f}x from one doubling to the next; at that rate it "
             f"falls below the criterion after {doublings} more doubling(s), at "
             f"a mesh of about {finest['tets'] * 2 ** doublings:.3g} tetrahedra "

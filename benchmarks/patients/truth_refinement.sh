@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Is a phantom's post-operative truth converged? (issue 14: the truth is
+# Is a phantom's post-operative truth converged? (the truth is
 # quadratic Neo-Hooke "on a mesh refined to the accuracy benchmark's
 # convergence criterion".) Makes one patient's truth (prm/patients/<P>_truth.prm)
 # on meshes of 1, 2 and 4 times its target number of tetrahedra, everything

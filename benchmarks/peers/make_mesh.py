@@ -8,7 +8,7 @@ outer faces). softface, FEniCSx and CalculiX all read the same file.
 usage: make_mesh.py H OUT.msh [--offcentre]
        (H = 4.3: about 30k tetrahedra, 2.88: 98k, 1.68: 486k)
 
---offcentre: issue 18's harder geometry instead: the bone box [20,35]x[30,45]x[40,55] mm and
+--offcentre: the harder geometry of the nonlinear solver cases instead: the bone box [20,35]x[30,45]x[40,55] mm and
 only the four side faces x = 0, 80 and y = 0, 80 in "fixed" (top and bottom traction free).
 """
 import sys

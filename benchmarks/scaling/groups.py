@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Linear FEM ('cg amg') on the generated cube, serially and on two MPI ranks in groups of one and
-of two (issue 20: a group's member holds none of the scene's cells): peak memory of the largest
+of two (a group's member holds none of the scene's cells): peak memory of the largest
 and the smallest rank, the phases, the whole process. Serial once, then the two groupings
 interleaved REPEAT times (memory does not move from run to run; the times do: medians). Fails if
 an answer differs from the serial one by more than 1e-8 relative.
@@ -123,8 +123,12 @@ commit = softface_run.commit()
 s, g1, g2 = (rows[c][0] for c, _, _ in CASES)
 md = ["# Groups of MPI ranks whose members hold no scene cells"
       + (": the point models" if points else ""), "",
-      f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
-      f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), "
+      "How much memory a rank saves when it holds no cell of the scene (an MPI group of two "
+      "whose root makes the mesh), against a serial run and two ranks without groups, and "
+      "whether the answers stay the serial ones.", "",
+      f"Reproduce: `{command.strip()}`.", "",
+      f"Measured at commit {commit or 'unknown'} on x86_64, {os.cpu_count()} cores.", "",
+      f"The generated cube (6 mm lift), "
       f"{s['tets']} tetrahedra, {s['vertices']} vertices, {WHAT} alone, one "
       "thread per rank; serially once, then `mpiexec -n 2` with `Models/Mesh group size` 1 and 2 "
       + ("once each. " if REPEAT == 1 else f"interleaved, {REPEAT} times (medians). ")
@@ -140,14 +144,18 @@ md = ["# Groups of MPI ranks whose members hold no scene cells"
       "| | " + " | ".join(c for c, _, _ in CASES) + " |", "|---|---|---|---|"]
 for row in csv_rows:
     md.append("| " + " | ".join(row) + " |")
-md += ["",
+md += ["", f"![memory]({STEM}.png)", "", "## What the numbers show", "",
        f"- Largest difference to the serial answer (relative): groups of 1 "
        f"{difference['2 ranks, groups of 1']:.1e}, groups of 2 {difference['2 ranks, groups of 2']:.1e}.",
        f"- The member's peak is {median('2 ranks, groups of 2', 'smallest peak MB') / median('serial', 'peak MB'):.3f} "
        f"of the serial run's and {median('2 ranks, groups of 2', 'smallest peak MB') / median('2 ranks, groups of 1', 'smallest peak MB'):.3f} "
        "of a rank's without groups; the root's stays near a rank's without groups, since it holds the "
-       "scene and its own part.", "",
-       f"![memory]({STEM}.png)", ""]
+       "scene and its own part."]
+if points:
+    md += ["- The member holds no triangulation or DoFs of the scene, but each point model's whole "
+           "`PointMesh` (about 50 bytes a cell, reckoned from its arrays' lengths; one per model) "
+           "and the vectors in serial numbering."]
+md += [""]
 with open(os.path.join(results, STEM + ".md"), "w") as f:
     f.write("\n".join(md) + "\n")
 print(f"group scaling: wrote {os.path.join(results, STEM + '.md')}")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Groups of MPI ranks whose members hold none of the scene's cells (issue 20): linear FEM ('cg amg')
+# Groups of MPI ranks whose members hold none of the scene's cells: linear FEM ('cg amg')
 # on the generated cube of about 2M tetrahedra, serially and on two ranks with 'Models/Mesh group
 # size' 1 (every rank holds the scene) and 2 (rank 1 holds its part only), the two interleaved,
 # 3 repetitions, one thread per rank; peak memory of the largest and the smallest rank, the

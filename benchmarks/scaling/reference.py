@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The quadratic reference model (Neo-Hooke, cg amg) on one MPI rank and on two (issue 20): the
+"""The quadratic reference model (Neo-Hooke, cg amg) on one MPI rank and on two: the
 generated cube (6 mm lift) at SIZES tetrahedra, one thread per rank, once each: serially, on two
 ranks, and on two ranks in a group of two (`Mesh group size = 2`: only rank 0 makes the mesh, the
 other rank holds none of the scene's cells); peak memory per rank (softface's own report: the
@@ -122,8 +122,13 @@ commit = softface_run.commit()
 with open("/proc/meminfo") as f:
     MACHINE_MB = int(re.search(r"MemTotal:\s+(\d+) kB", f.read()).group(1)) / 1024
 md = ["# The quadratic reference on one MPI rank and on two", "",
-      f"Made by `{command}`" + (f" at commit {commit}" if commit else "") +
-      f" on x86_64 / {os.cpu_count()} cores: the generated cube (6 mm lift), the reference model "
+      "How much of the serial run's peak memory a rank needs for the quadratic reference model "
+      "on two ranks (target: at most 0.55 at the largest size one rank can hold), with and "
+      "without a group whose member holds no cells, and whether the answers stay the serial "
+      "ones.", "",
+      f"Reproduce: `{command.strip()}`.", "",
+      f"Measured at commit {commit or 'unknown'} on x86_64, {os.cpu_count()} cores.", "",
+      "The generated cube (6 mm lift), the reference model "
       "(quadratic tetrahedra, Neo-Hooke, `cg amg`, Newton to 1e-10), one thread per rank, serial "
       "and `mpiexec -n 2` (each rank holding the scene's mesh, and in a group of two, where only "
       "rank 0 makes the mesh and rank 1 holds none of its cells), once each (memory does not move "
@@ -137,7 +142,7 @@ for n in SIZES:
            f"{c['newton']}, CG iterations {a['linear iterations']}, {b['linear iterations']} and "
            f"{c['linear iterations']}.",
            f"- Peak memory per rank, the largest rank: {b['peak MB'] / a['peak MB']:.3f} of the "
-           f"serial run's, in a group of two {c['peak MB'] / a['peak MB']:.3f} (the issue's "
+           f"serial run's, in a group of two {c['peak MB'] / a['peak MB']:.3f} (the "
            f"target: at most 0.55); the member without cells {c['smallest peak MB'] / a['peak MB']:.3f}. "
            f"The serial run's peak is {100 * a['peak MB'] / MACHINE_MB:.0f} % of this machine's "
            "memory.",
@@ -151,12 +156,15 @@ for n in SIZES:
         if row[0] == a["tets"]:
             md.append("| " + " | ".join(row[1:]) + " |")
     md.append("")
-md += ["![memory](scaling_reference.png)", "",
-       "On the ranks the reference's DoFs are its quadratic element's on the ranks' parts of the "
+md += ["![memory](scaling_reference.png)", "", "## What the numbers show", "",
+       "- On the ranks the reference's DoFs are its quadratic element's on the ranks' parts of the "
        "mesh (no rank builds it on the whole mesh); the tangent, its copy for ML and ML itself "
        "are shared out. Every rank still holds Newton's vectors whole (8 bytes per quadratic DoF "
        "each) and the scene's arrays per vertex; each rank outside a group, and the root of a "
-       "group, holds the scene's mesh too.", ""]
+       "group, holds the scene's mesh too.", "",
+       "## Limits", "",
+       "- Each configuration ran once: the memory does not move from run to run, the times do "
+       "(the CPU share above says how much other work shared the cores).", ""]
 with open(os.path.join(results, "scaling_reference.md"), "w") as f:
     f.write("\n".join(md) + "\n")
 print(f"reference scaling: wrote {os.path.join(results, 'scaling_reference.md')}")

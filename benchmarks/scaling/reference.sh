@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The quadratic reference model on one MPI rank and on two, the two also in a group of two whose
-# member holds none of the scene's cells (issue 20): peak memory per rank and time on the
+# member holds none of the scene's cells: peak memory per rank and time on the
 # generated cube of about 100k and 300k tetrahedra (the reference's quadratic layout has about 8
 # times the DoFs of the shared one), one thread per rank, once each; checks that the answers agree
 # and writes doc/results/scaling_reference.{md,csv,png}.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Strong scaling, one MPI rank against two (issue 20): linear FEM, the mass tensor and the mass
+# Strong scaling, one MPI rank against two: linear FEM, the mass tensor and the mass
 # spring model and nonlinear FEM on the generated cube of about 500k and 2M tetrahedra, serial
 # and mpiexec -n 2 interleaved, 3 repetitions, one thread per rank; checks that the answers
 # agree and writes doc/results/scaling.{md,csv,png}, with a model of 64 and 1024 ranks built from

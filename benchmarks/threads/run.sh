@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One thread against two (issue 16, "both cores"): every model on the ~491k-tetrahedron gmsh cube of
+# One thread against two: every model on the ~491k-tetrahedron gmsh cube of
 # benchmarks/peers/make_mesh.py with Models/Threads = 1 and 2, interleaved, 3 repetitions; checks
 # that the answers agree and writes doc/results/threads.{md,csv,png}.
 #
