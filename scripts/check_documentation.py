@@ -28,9 +28,10 @@ README_MAX_LINES = 150
 
 LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 ISSUE = re.compile(r"\b[Ii]ssues?\s+#?\d+|\(#\d+\)|\bissue #\d+")
-# A commit hash: 7 to 12 hexadecimal digits, letters and digits both.
+# A commit hash as git abbreviates it: 7 to 9 hexadecimal digits, letters and
+# digits both (longer ones, such as the md5 sums a results page lists, are data).
 HASH = re.compile(r"(?<![0-9A-Za-z_./-])(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])"
-                  r"[0-9a-f]{7,12}(?![0-9A-Za-z_])")
+                  r"[0-9a-f]{7,9}(?![0-9A-Za-z_])")
 FIRST_PERSON = re.compile(
     r"\bI(?:'m|'ve|'d|'ll)\b|\b[Mm]y\b|"
     r"\bI (?:am|was|have|had|did|do|ran|run|measured|tried|think|used|"

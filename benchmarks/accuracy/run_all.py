@@ -450,7 +450,7 @@ def main():
     global RUN_RECORD
     commit = subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"],
                             capture_output=True, text=True).stdout.strip() or "?"
-    RUN_RECORD = f"`{command}` (softface built from {commit})"
+    RUN_RECORD = f"`{command}` (softface at commit {commit})"
 
     # Every case, in order: points, references (finest last), linear P2 on
     # the two finest reference meshes, sweep, precision.
