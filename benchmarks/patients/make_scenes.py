@@ -2,10 +2,10 @@
 """Writes the phantom patients' scenes: prm/patients/P1.prm ... P10.prm and
 the quick-start prm/patient.prm.
 
-The patients follow the seed's Table 2 (Mollemans et al. 2007): the same
+The patients follow the paper's Table 2 (Mollemans et al. 2007): the same
 procedures (MSB mandibular set-back, MA mandibular advancement, G
 genioplasty, MxA maxillary advancement, MxSB maxillary set-back) with planned
-bone motions whose largest magnitude is the seed's largest soft-tissue
+bone motions whose largest magnitude is the paper's largest soft-tissue
 motion M_max, and about the same numbers of tetrahedra. Their anatomy
 (face width and height, soft-tissue thickness, mandible length and angle,
 skeletal class) varies. Every patient gets the same osteotomy (Le Fort I,
@@ -36,7 +36,7 @@ def place(gonion, p0, length, angle, shift):
     return p
 
 
-# name, procedure, seed's N_tetra and M_max, anatomy, motions (mm; -y is
+# name, procedure, the paper's N_tetra and M_max, anatomy, motions (mm; -y is
 # forward, +z up). A motion is (translation, rotation angle about x through
 # the segment's join points, degrees).
 PATIENTS = [
@@ -162,7 +162,7 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         f"    set Seed point = {vec([round(x, 1) for x in chin])}",
         "  end",
         "  subsection Patient",
-        "    # The region of the face that deforms (seed 3.1): below the "
+        "    # The region of the face that deforms (the paper, Sec. 3.1): below the "
         "eyes, in",
         "    # front of the ears, down to the neck. Where it cuts the soft "
         "tissue, the",
@@ -225,7 +225,7 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         "",
         "subsection Planning",
         f"  # {procedure}: largest planned bone motion {m_max:g} mm "
-        "(the seed's M_max).",
+        "(the paper's M_max).",
         f"  set Moved segments = {', '.join(motions)}",
     ]
     seeds = {"maxilla": [0, -66, round(OCCLUSION + 12.0 * H, 6)],
@@ -294,7 +294,7 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
         lines += [
             "subsection Skin",
             "  # Every model's prediction mapped onto the dense skin both ways",
-            "  # (seed 3.4) and measured against the post-operative skin that",
+            "  # (the paper, Sec. 3.4) and measured against the post-operative skin that",
             f"  # {truth} makes (run first, then reused).",
             "  set Mapping             = shape functions, inverse distance",
             f"  set Post-operative skin = {truth}",
@@ -304,7 +304,7 @@ def scene(name, procedure, n_tets, m_max, a, motions, models, directory,
 
 
 def planning_errors(name, motions):
-    """The truth's known planning error for each moved segment (seed 3.2:
+    """The truth's known planning error for each moved segment (the paper, Sec. 3.2:
     the residual mismatch between planned and achieved bone positions, about
     1 mm): a translation of 0.7 mm and a rotation of 0.6 degrees about the
     segment's seed point (about 0.5 mm at 50 mm), in random directions drawn
@@ -324,7 +324,7 @@ def planning_errors(name, motions):
 
 ALL = "linear fem, mass tensor, mass spring, nonlinear fem"
 TRUTH_COMMENT = (
-    "The post-operative truth of phantom patient {name} (issue 14): made by a "
+    "The post-operative truth of phantom patient {name}: made by a "
     "model richer\n# than the ones it judges (quadratic Neo-Hooke, skin, fat "
     "and muscle) and driven by\n# the planning plus a known error. Distances "
     "to it measure what the predicting\n# models leave out, not the distance "
@@ -336,8 +336,8 @@ if __name__ == "__main__":
     for name, procedure, n_tets, m_max, anatomy, motions in PATIENTS:
         text = scene(name, procedure, n_tets, m_max, anatomy, motions, ALL,
                      f"output/patients/{name}",
-                     f"Phantom patient {name} after the seed's Table 2: "
-                     f"{procedure}, {n_tets} tetrahedra in the seed.",
+                     f"Phantom patient {name} after the paper's Table 2: "
+                     f"{procedure}, {n_tets} tetrahedra in the paper.",
                      truth=f"{name}_truth.prm")
         with open(f"prm/patients/{name}.prm", "w") as f:
             f.write(text)
@@ -356,7 +356,7 @@ if __name__ == "__main__":
                profile="class II", discrepancy=6),
           {"mandible": (0, -6.0, 0), "chin": (0, -8.0, 2.0)})
     text = scene(*p0, ALL, "output/patient",
-                 "A phantom patient end to end (seed 3.1-3.4): CT -> labels "
+                 "A phantom patient end to end (the paper, Sec. 3.1-3.4): CT -> labels "
                  "-> surfaces -> mesh ->\n# bone segments -> the four models "
                  "-> the predicted skins and their distance to\n# the "
                  "post-operative skin (made by prm/patient_truth.prm). Files "
