@@ -130,6 +130,17 @@ def scene_segments(prm_path):
     raise ValueError(f"{prm_path}: no 'Bone segments'")
 
 
+def save(fig, out, limit=400_000):
+    """Save a figure; a PNG over `limit` bytes (the shaded surfaces) is
+    stored with a palette of 256 colours, as doc/make_preview_pictures.sh
+    does."""
+    fig.savefig(out)
+    plt.close(fig)
+    if limit is not None and os.path.getsize(out) > limit:
+        from PIL import Image
+        Image.open(out).convert("RGB").quantize(256).save(out, optimize=True)
+
+
 # --------------------------------------------------------------------------
 # Drawing surfaces without OpenGL
 # --------------------------------------------------------------------------
@@ -236,6 +247,41 @@ def dimension(ax, p0, p1, text, offset, color="k", fontsize=13, side=1):
             bbox=dict(fc="white", ec="none", alpha=0.85, pad=1.5))
 
 
+def cube_sketch(ax, lo, hi, inner_lo, inner_hi, y0, lift):
+    """The cube, its inner cube and the section plane, in perspective-free
+    3D (orthographic)."""
+    cam = Camera((-0.75, 1.0, -0.6), (0, 0, 1))
+
+    def box(a, b, **kw):
+        c = np.array([[x, y, z] for x in (a[0], b[0]) for y in (a[1], b[1])
+                      for z in (a[2], b[2])])
+        xy = cam.screen(c)
+        lines = [xy[[i, j]] for i in range(8) for j in range(i + 1, 8)
+                 if np.sum(c[i] != c[j]) == 1]
+        ax.add_collection(LineCollection(lines, **kw))
+        return xy
+
+    xy = box(lo, hi, colors="#1f4e9c", linewidths=1.4)
+    box(inner_lo, inner_hi, colors="#d62728", linewidths=1.6)
+    plane = np.array([[lo[0], y0, lo[2]], [hi[0], y0, lo[2]],
+                      [hi[0], y0, hi[2]], [lo[0], y0, hi[2]]])
+    ax.add_patch(plt.Polygon(cam.screen(plane), closed=True, fc="#f0a030",
+                             ec="#c07000", alpha=0.35, lw=1.2))
+    top = cam.screen([(inner_lo + inner_hi) / 2 + [0, 0, 5],
+                      (inner_lo + inner_hi) / 2 + [0, 0, 5 + 3 * lift]])
+    ax.annotate("", xy=top[1], xytext=top[0],
+                arrowprops=dict(arrowstyle="-|>", color="#d62728", lw=2,
+                                mutation_scale=14))
+    ax.text(*(cam.screen([hi[0], y0, lo[2]]) + [0, -6]),
+            f"section y = {y0:.0f} mm", color="#a05a00", fontsize=11.5,
+            ha="center", va="top")
+    ax.text(*(cam.screen((inner_lo + inner_hi) / 2 + [0, 0, 5 + 1.5 * lift])
+              + [-3, 0]), f"lift {lift:.0f} mm", color="#d62728",
+            fontsize=11.5, ha="right", va="center")
+    setup_axes(ax, xy, margin=0.08)
+    ax.set_title("The cube, its inner cube\nand the section", loc="left")
+
+
 def fig_cube_boundary_conditions(cube_dir, out):
     pts, tets, arrays = merged_solution(os.path.join(cube_dir, "solution.vtu"))
     size = pts.max(axis=0) - pts.min(axis=0)
@@ -250,10 +296,13 @@ def fig_cube_boundary_conditions(cube_dir, out):
     inner_size = inner_hi[0] - inner_lo[0]
     lift = float(np.median(u[seg == 1, 2]))
 
-    fig, axes = plt.subplots(1, 2, figsize=(13.2, 6.6),
-                             gridspec_kw=dict(width_ratios=[1, 1.12]))
-    fig.subplots_adjust(left=0.03, right=0.96, top=0.88, bottom=0.04,
-                        wspace=0.08)
+    fig, axes = plt.subplots(1, 3, figsize=(14.0, 6.2),
+                             gridspec_kw=dict(width_ratios=[0.62, 1, 1.12]))
+    fig.subplots_adjust(left=0.01, right=0.96, top=0.86, bottom=0.03,
+                        wspace=0.06)
+    cube_sketch(axes[0], pts.min(axis=0), pts.max(axis=0), inner_lo,
+                inner_hi, y0, lift)
+    axes = axes[1:]
 
     # (a) the section at rest with the three kinds of points
     ax = axes[0]
@@ -286,8 +335,7 @@ def fig_cube_boundary_conditions(cube_dir, out):
                 fontsize=12, color="#d62728",
                 bbox=dict(fc="white", ec="none", alpha=0.9, pad=2),
                 arrowprops=dict(arrowstyle="-", color="#d62728", lw=1))
-    ax.set_title(f"(a) Boundary conditions: section y = {y0:.0f} mm at rest",
-                 loc="left")
+    ax.set_title(f"(a) The section at rest: boundary conditions", loc="left")
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.06), ncol=1,
               frameon=False, fontsize=11.5, markerscale=1.2,
               handletextpad=0.3)
@@ -322,14 +370,12 @@ def fig_cube_boundary_conditions(cube_dir, out):
     ax.set_aspect("equal")
     ax.axis("off")
     dimension(ax, (0, -7), (edge, -7), "border held: u = 0", (0, -5))
-    ax.set_title(f"(b) Deformed section (linear FEM), coloured by |u|",
-                 loc="left")
+    ax.set_title(f"(b) Deformed section (linear FEM)", loc="left")
     cb = fig.colorbar(tpc, ax=ax, fraction=0.045, pad=0.02, shrink=0.85)
     cb.set_label("|u| (mm)")
     fig.suptitle("The cube benchmark (prm/default.prm): 80 mm cube, border "
                  "held, central 10 mm cube lifted 6 mm", fontsize=15)
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out)
 
 
 def outward_boundary_faces(pts, tets):
@@ -396,8 +442,7 @@ def fig_solution_view(cube_dir, out, model="linear_fem"):
     fig.text(0.02, 0.915, f"Clip at y = {y0:.0f} mm (crinkle), Surface With "
              "Edges, coloured by |u|; dashed: the outline of the cube at rest",
              fontsize=14)
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out)
 
 
 # --------------------------------------------------------------------------
@@ -454,8 +499,9 @@ def fig_join_and_free_points(patient_dir, out, model=None):
     ax.set_title("right side: the mid-sagittal slab |x| < 2.5 mm", fontsize=13)
     handles = [Line2D([], [], ls="none", marker="o", ms=8,
                       color=SEGMENT_COLOURS[i % 10],
-                      label=f"join points of '{n}' ({np.sum(join & (seg == i))})"
-                      + (" and the region's cut" if n == "cranium" else ""))
+                      label=f"join points of '{n}' ({np.sum(join & (seg == i))}"
+                      + (", with the region's cut it holds)" if n == "cranium"
+                         else ")"))
                for i, n in enumerate(names)]
     handles.append(Line2D([], [], ls="none", marker="o", ms=6, color="0.6",
                           label=f"free points ({np.sum(~join)})"))
@@ -464,8 +510,7 @@ def fig_join_and_free_points(patient_dir, out, model=None):
     fig.suptitle(f"Join and free points of the phantom patient's mesh "
                  f"(prm/patient.prm, {len(pts)} points, {len(tets)} tetrahedra)",
                  fontsize=15)
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out)
 
 
 def mesh_skin_triangles(mesh_path):
@@ -510,7 +555,7 @@ def fig_mesh_and_skin(patient_dir, out, model=None):
     depth[len(stris):] -= 1.5
     order = np.argsort(-depth, kind="stable")
     skin_rgb = shade(np.tile([[0.96, 0.84, 0.74]], (len(stris), 1)),
-                     sign * face_normals(spts, stris), cam, ambient=0.45)
+                     sign * smooth_normals(spts, stris), cam, ambient=0.45)
     face = np.concatenate([np.c_[skin_rgb, np.ones(len(stris))],
                            np.zeros((len(mskin), 4))])
     edge = np.concatenate([np.c_[skin_rgb * 0.8, np.ones(len(stris))],
@@ -536,8 +581,7 @@ def fig_mesh_and_skin(patient_dir, out, model=None):
     ax.legend(handles=handles, loc="lower right", fontsize=12, framealpha=0.9)
     fig.suptitle("The coarse mesh's skin against the dense skin surface: "
                  "lips and nose (prm/patient.prm)", fontsize=15, y=1 - 0.35 / fig.get_figheight())
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out)
 
 
 def outward_sign(pts, tris):
@@ -614,8 +658,7 @@ def fig_predicted_face(patient_dir, out, model="linear_fem"):
     fig.suptitle(f"Predicted face of the phantom patient (prm/patient.prm, "
                  f"{label}, shape functions mapping)\ncoloured by its signed "
                  "distance to the post-operative face", fontsize=15)
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out, limit=None)  # a palette would band the colour map
 
 
 def section(poly, x0):
@@ -662,6 +705,8 @@ def fig_closest_vs_corresponding(patient_dir, out, model="mass_spring"):
         closest[k] = c
     fig, ax = plt.subplots(figsize=(12.0, 9.5))
     fig.subplots_adjust(left=0.08, right=0.98, top=0.9, bottom=0.2)
+    ax.add_collection(LineCollection(section(pre, x0), colors="0.6", lw=1.4,
+                                     linestyles=":"))
     ax.add_collection(LineCollection(section(post, x0), colors="k", lw=2.2,
                                      label="post-operative skin"))
     ax.add_collection(LineCollection(section(pred, x0), colors="#e08214",
@@ -685,7 +730,23 @@ def fig_closest_vs_corresponding(patient_dir, out, model="mass_spring"):
     ax.set_xlabel("y (mm, anterior to the left)")
     ax.set_ylabel("z (mm)")
     ax.grid(True, color="0.9", lw=0.6)
-    handles = [Line2D([], [], color="k", lw=2.2, label="post-operative skin"),
+    # where: the whole profile, with the close-up's frame
+    inset = fig.add_axes([0.085, 0.6, 0.2, 0.28])
+    inset.add_collection(LineCollection(section(post, x0), colors="k", lw=1))
+    inset.set_xlim(-125, -40)
+    inset.set_ylim(-100, 40)
+    inset.set_aspect("equal")
+    inset.set_xticks([])
+    inset.set_yticks([])
+    ax.apply_aspect()
+    x_lo, x_hi = ax.get_xlim()
+    y_lo, y_hi = ax.get_ylim()
+    inset.add_patch(plt.Rectangle((x_lo, y_lo), x_hi - x_lo, y_hi - y_lo,
+                                  fill=False, ec="#e08214", lw=1.5))
+    inset.set_title("the profile at x = %.1f mm" % x0, fontsize=10)
+    handles = [Line2D([], [], color="0.6", lw=1.4, ls=":",
+                      label="pre-operative skin"),
+               Line2D([], [], color="k", lw=2.2, label="post-operative skin"),
                Line2D([], [], color="#e08214", lw=2.2, ls="--",
                       marker="o", mec="k", ms=6,
                       label=f"predicted skin ({model.replace('_', ' ')}) and "
@@ -702,8 +763,7 @@ def fig_closest_vs_corresponding(patient_dir, out, model="mass_spring"):
                  f"(prm/patient.prm, section x = {x0:.1f} mm)", fontsize=15)
     ax.set_title("arrows: the vectors' y and z components, to scale",
                  fontsize=12, color="0.3")
-    fig.savefig(out)
-    plt.close(fig)
+    save(fig, out)
 
 
 # --------------------------------------------------------------------------
