@@ -12,7 +12,18 @@ skin_*.vtp, and its work directory patient/ with mesh.vtu and skin.vtp).
 
 VTK reads the files and finds closest points; matplotlib draws (Agg, no
 display needed): surfaces are drawn as flat-shaded triangles sorted back to
-front under an orthographic camera, which needs no OpenGL.
+front under an orthographic camera, which needs no OpenGL (VTK's offscreen
+rendering needs an X server in Debian's VTK 9.1).
+
+The figures and what they read:
+- cube_boundary_conditions.png, solution_view.png: the cube's solution.vtu;
+- join_and_free_points.png: the patient's solution.vtu (join_point,
+  segment_id) and input.prm (the segments' names);
+- mesh_and_skin.png: patient/mesh.vtu (its skin triangles) and patient/skin.vtp;
+- closest_vs_corresponding.png: skin_<lip model>_sf.vtp ('to correspondence',
+  'to exact partner'), skin_postoperative.vtp, skin_preoperative.vtp;
+- predicted_face.png: skin_<model>_sf.vtp ('signed distance').
+All output is deterministic: the same inputs give the same PNGs, byte for byte.
 """
 
 import argparse
@@ -29,7 +40,8 @@ import vtk  # noqa: E402
 from matplotlib import colors as mcolors  # noqa: E402
 from matplotlib.collections import LineCollection, PolyCollection  # noqa: E402
 from matplotlib.lines import Line2D  # noqa: E402
-from vtk.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtk.util.numpy_support import (numpy_to_vtk, numpy_to_vtkIdTypeArray,  # noqa: E402
+                                    vtk_to_numpy)
 
 DPI = 100
 plt.rcParams.update({
@@ -325,7 +337,6 @@ def fig_cube_boundary_conditions(cube_dir, out):
     ax.axis("off")
     dimension(ax, (0, -7), (edge, -7), f"{edge:.0f} mm", (0, -5))
     dimension(ax, (-7, 0), (-7, edge), f"{edge:.0f} mm", (-5, 0))
-    ax.text(-5, -14, "", fontsize=1)
     # the inner cube, with its size
     ax.add_patch(plt.Rectangle((inner_lo[0], inner_lo[2]), inner_size,
                                inner_hi[2] - inner_lo[2], fill=False,
@@ -335,7 +346,7 @@ def fig_cube_boundary_conditions(cube_dir, out):
                 fontsize=12, color="#d62728",
                 bbox=dict(fc="white", ec="none", alpha=0.9, pad=2),
                 arrowprops=dict(arrowstyle="-", color="#d62728", lw=1))
-    ax.set_title(f"(a) The section at rest: boundary conditions", loc="left")
+    ax.set_title("(a) The section at rest: boundary conditions", loc="left")
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.06), ncol=1,
               frameon=False, fontsize=11.5, markerscale=1.2,
               handletextpad=0.3)
@@ -370,7 +381,7 @@ def fig_cube_boundary_conditions(cube_dir, out):
     ax.set_aspect("equal")
     ax.axis("off")
     dimension(ax, (0, -7), (edge, -7), "border held: u = 0", (0, -5))
-    ax.set_title(f"(b) Deformed section (linear FEM)", loc="left")
+    ax.set_title("(b) Deformed section (linear FEM)", loc="left")
     cb = fig.colorbar(tpc, ax=ax, fraction=0.045, pad=0.02, shrink=0.85)
     cb.set_label("|u| (mm)")
     fig.suptitle("The cube benchmark (prm/default.prm): 80 mm cube, border "
@@ -598,7 +609,6 @@ def smooth_normals(pts, tris):
     not smoothed)."""
     poly = vtk.vtkPolyData()
     p = vtk.vtkPoints()
-    from vtk.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
     p.SetData(numpy_to_vtk(np.ascontiguousarray(pts), deep=True))
     poly.SetPoints(p)
     cells = vtk.vtkCellArray()
