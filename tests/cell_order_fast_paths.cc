@@ -1,5 +1,5 @@
 // A read mesh's checks and locality order take faster paths than the
-// library calls they replace (issue 16): the Hilbert keys are computed in
+// library calls they replace: the Hilbert keys are computed in
 // pieces on the threads after deal.II's own mapping to integers, by a
 // transform without branches on the bits (deal.II's algorithm), and cell
 // and face lists are sorted by a counting sort on their first point. Both

@@ -1,8 +1,8 @@
-// The generated cube (seed 2.3.6): its tetrahedra fill [0,L]^3 exactly, do not
-// overlap or leave gaps (the boundary area is exactly 6 L^2, which a
-// non-conforming split would exceed), conform to the inner cube (material 2
-// fills exactly s^3 and its vertices lie in the closed inner box), carry
-// boundary id 1 on every outer face, and come near the requested count.
+// The generated cube (Mollemans et al. 2007, Sec. 2.3.6): its tetrahedra fill
+// [0,L]^3 exactly, do not overlap or leave gaps (the boundary area is exactly
+// 6 L^2, which a non-conforming split would exceed), conform to the inner cube
+// (material 2 fills exactly s^3 and its vertices lie in the closed inner box),
+// carry boundary id 1 on every outer face, and come near the requested count.
 // Graded grids keep all of that and crowd their lines towards the inner
 // cube's face planes: the spacing at those planes is about 1/Grading of the
 // spacing at the outer faces. The mirror-symmetric split gives a mesh that

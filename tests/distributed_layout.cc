@@ -1,4 +1,4 @@
-// The scene's layout on several MPI ranks (issue 20, a first step), run by
+// The scene's layout on several MPI ranks, run by
 // ctest on 2 and 3 ranks (distributed_layout.mpirun=N.output). Against the
 // serial scene it is built from, on the generated cube and on a read gmsh
 // mesh, with both partitioners:

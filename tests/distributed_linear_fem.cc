@@ -1,9 +1,9 @@
-// Linear elasticity on several MPI ranks (issue 20, a first step), run by
+// Linear elasticity on several MPI ranks, run by
 // ctest on 2 and 3 ranks (distributed_linear_fem.mpirun=N.output): the
 // distributed solve equals the serial linear FEM model's answer (CG with ML
 // to 1e-12 both, checked to 1e-8 relative) on
-// - the seed's cube, the bone turned by 10 degrees and moved, both
-//   partitioners;
+// - the cube of Mollemans et al. 2007, the bone turned by 10 degrees and
+//   moved, both partitioners;
 // - the shared gmsh cube (tests/data/cube30k) lifted 6 mm;
 // - a two-tissue cube under gravity (heterogeneous tissue, body force);
 // - a cube held on one face only, where on 3 ranks a rank owns no join
@@ -113,7 +113,8 @@ SOFTFACE_TEST(distributed_linear_fem)
            .displacement;
   check_above("  largest change by gravity (mm)", sag.linfty_norm(), 0.1);
 
-  // Sliding contact is not distributed yet: one message on every rank.
+  // Sliding contact is not available on several ranks: one message on
+  // every rank.
   Scene sliding;
   make_cube_scene(sliding, 3000);
   VertexConstraint constraint;

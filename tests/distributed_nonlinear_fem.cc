@@ -1,12 +1,12 @@
-// The nonlinear FEM model on several MPI ranks (issue 20), run by ctest on 2
+// The nonlinear FEM model on several MPI ranks, run by ctest on 2
 // and 3 ranks (distributed_nonlinear_fem.mpirun=N.output). Each rank
 // evaluates its own cells into a distributed tangent solved by CG with ML;
 // Newton's vectors are whole on every rank. The answer must equal the
 // serial model's (MPI_COMM_SELF in the same run) to Newton's tolerance:
 // relative 1e-8 with a residual tolerance of 1e-10, both with the same
 // load steps and cut-backs, on
-// - the seed's cube, the bone turned by 10 degrees and moved (cell order
-//   and METIS), and on the rigid load path;
+// - the cube of Mollemans et al. 2007, the bone turned by 10 degrees and
+//   moved (cell order and METIS), and on the rigid load path;
 // - the cube held on one face only (a rank owns no join point);
 // - the shared gmsh cube (tests/data/cube30k) lifted 6 mm;
 // - two tissues under gravity;

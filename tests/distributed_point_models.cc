@@ -1,4 +1,4 @@
-// The mass tensor and mass spring models on several MPI ranks (issue 20),
+// The mass tensor and mass spring models on several MPI ranks,
 // run by ctest on 2 and 3 ranks (distributed_point_models.mpirun=N.output).
 // Each rank sweeps the points of its range of blocks, the colours in turn
 // with an exchange after each: the serial sweep, update for update. So the
@@ -7,10 +7,10 @@
 // Each point's mass tensors are held by one rank only.
 // - the mass tensor model converged fully (gradient 1e-9 mm per sweep),
 //   which is linear FEM's answer, its converged equivalent; with its default
-//   stop (the seed's criterion checked by 'Stop distance', 0.1 mm) within
-//   0.1 mm of it: the seed's cube with the bone turned, without the active
-//   set and in damped Jacobi order too (and its precision against the
-//   converged answer, which a rank solves from the whole tensors), the cube
+//   stop (the criterion of Mollemans et al. 2007 checked by 'Stop distance',
+//   0.1 mm) within 0.1 mm of it: the paper's cube with the bone turned, without
+//   the active set and in damped Jacobi order too (and its precision against
+//   the converged answer, which a rank solves from the whole tensors), the cube
 //   held on one face only (a rank owns no join point, and the held face lies on
 //   one rank), the shared gmsh cube lifted 6 mm, two tissues under gravity;
 // - the mass spring model on the same scenes, and on a cube whose bone

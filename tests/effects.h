@@ -88,9 +88,9 @@ namespace softface_tests
   }
 
   /**
-   * The seed's cube of about 3000 tetrahedra in two tissues (the upper
-   * half four times stiffer), and, if asked, under gravity: the MPI tests'
-   * scene for per-cell materials and a body force.
+   * The cube of Mollemans et al. 2007, of about 3000 tetrahedra in two tissues
+   * (the upper half four times stiffer), and, if asked, under gravity: the MPI
+   * tests' scene for per-cell materials and a body force.
    */
   inline void
   make_two_tissue_cube(Scene &scene, const bool with_gravity = true)

@@ -118,7 +118,7 @@ SOFTFACE_TEST(effects_hanging_column)
                               fine,
                               0.02);
   // Still pre-asymptotic in the largest pointwise error: 1.54 from 3k to
-  // 25k cells, 1.68 from 25k to 64k (measured once), approaching 2.
+  // 25k cells, 1.68 from 25k to 64k, approaching 2.
   softface_tests::check_within("on: order of convergence (2)",
                                std::log(coarse / fine) /
                                  std::log(h(scene) / h(fine_scene)),
@@ -198,13 +198,13 @@ SOFTFACE_TEST(effects_hanging_column)
       0.3,
       3.);
 
-    // Its equilibrium, computed here: the springs' forces (seed eq. 4, on
-    // the constants mass_spring_constants checks by hand) at the deformed
-    // positions against the weight, rho g V / 4 of each tetrahedron at each
-    // of its vertices (the consistent load of a constant body force on P1).
-    // The top holds the whole weight, and every free point is in balance, to
-    // within the model's stop (no step over 0.001 mm: 2 to 3 % of the weight
-    // here; a load counted twice would leave 100 %).
+    // Its equilibrium, computed here: the springs' forces (Mollemans et al.
+    // 2007, eq. 4, on the constants mass_spring_constants checks by hand) at
+    // the deformed positions against the weight, rho g V / 4 of each
+    // tetrahedron at each of its vertices (the consistent load of a constant
+    // body force on P1). The top holds the whole weight, and every free point
+    // is in balance, to within the model's stop (no step over 0.001 mm: 2 to
+    // 3 % of the weight here; a load counted twice would leave 100 %).
     // The model's points are the DoF triples 3p, 3p + 1, 3p + 2.
     const auto               &vertices = scene.triangulation.get_vertices();
     std::vector<Point<3>>     x(vertices.size());

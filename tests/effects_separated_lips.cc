@@ -2,9 +2,9 @@
 // z = 40 from the face x = 0 to x = 50, where the two "lips" join. The jaw
 // (the top face) closes by 3 mm against the fixed base, pressing the lips
 // together (at 8 mm the mass spring model turns 600 tetrahedra inside out,
-// with or without the slit: seed 2.2's disadvantage 1, not the lips').
-// Checked cell by cell: no tetrahedron above the slit overlaps one below it
-// after the motion (separating axes; cells that share a vertex are
+// with or without the slit: disadvantage 1 of Mollemans et al. 2007, Sec. 2.2,
+// not the lips'). Checked cell by cell: no tetrahedron above the slit overlaps
+// one below it after the motion (separating axes; cells that share a vertex are
 // neighbours, not checked), in every model; the vertex pairs never pass
 // through each other. Without the contact (the slit alone), the upper lip
 // sinks into the lower one: the check would fail. Then the jaw tilts, so

@@ -1,6 +1,6 @@
-// Heterogeneous tissue in all four models on the seed's cube: the tissue
-// above the mid-plane four times as stiff as below, the inner cube moved
-// 6 mm up. The converged mass tensor model solves linear FEM's equations
+// Heterogeneous tissue in all four models on the cube of Mollemans et al. 2007:
+// the tissue above the mid-plane four times as stiff as below, the inner cube
+// moved 6 mm up. The converged mass tensor model solves linear FEM's equations
 // (to 1e-6 mm); the effect with one modulus everywhere gives exactly the
 // answer without it, in every model; under displacement loading only the
 // ratio of the moduli matters (both scaled by 10: the same answer).

@@ -1,7 +1,7 @@
 // A scene whose every vertex is a join point (one segment holds every
 // cell): there is nothing to solve for, and every model must still return
-// the join motion itself, not zero (the nonlinear model once stopped at its
-// zero first residual and returned u = 0 as converged; issue 15).
+// the join motion itself, not zero (a nonlinear solve that stops at its
+// zero first residual would return u = 0 as converged).
 
 #include <softface/core/mesh.h>
 #include <softface/models/interface.h>

@@ -1,14 +1,14 @@
-// Volume/surface mapping (seed 3.4): the shape-function mapping reproduces an
-// affine displacement field exactly, at skin points inside the mesh and at
-// points off it that it projects onto the mesh's skin (P1 shape functions
-// extrapolate an affine field exactly); for a field that is not affine,
-// where another tetrahedron than the right one gives another value, it gives
-// the P1 interpolant of the containing tetrahedron (inside) and of the
+// Volume/surface mapping (Mollemans et al. 2007, Sec. 3.4): the shape-function
+// mapping reproduces an affine displacement field exactly, at skin points
+// inside the mesh and at points off it that it projects onto the mesh's skin
+// (P1 shape functions extrapolate an affine field exactly); for a field that is
+// not affine, where another tetrahedron than the right one gives another value,
+// it gives the P1 interpolant of the containing tetrahedron (inside) and of the
 // tetrahedron of the skin face a point projects onto (outside), both found
 // here by brute force with barycentric coordinates computed here; inverse
 // distance weighting reproduces a constant field exactly, between two known
-// points 1 and 3 mm away gives the value of seed eq. 14 computed here
-// (weights 1/d, not d: 0.25, not 0.75), and counts rings as the seed does
+// points 1 and 3 mm away gives the value of the paper's eq. 14 computed here
+// (weights 1/d, not d: 0.25, not 0.75), and counts rings as the paper does
 // (a known point two edges away counts from 3 rings on); a skin out of the
 // mesh's reach is refused.
 
@@ -286,7 +286,8 @@ SOFTFACE_TEST(mapping_skin)
   // triangle A B C whose vertices A and B are skin points p0 and p2 (the
   // known points; C is farther than the reach from every skin point), and a
   // skin point p1 on AB 1 mm from A and 3 mm from B. With u(A) = 0 and
-  // u(B) = 1, seed eq. 14 gives u(p1) = (0 / 1 + 1 / 3) / (1 / 1 + 1 / 3).
+  // u(B) = 1, the paper's eq. 14 gives
+  // u(p1) = (0 / 1 + 1 / 3) / (1 / 1 + 1 / 3).
   {
     const auto              strip = one_tetrahedron(4.);
     SurfaceMapping::Surface skin;
@@ -318,8 +319,9 @@ SOFTFACE_TEST(mapping_skin)
   // Rings: skin points on a line, p0 (known, on A), p1, p2, p3 (known, on
   // B) 1 mm apart, each segment closing a triangle with a point q beside
   // it. p3 is two edges from p1: it counts with 3 rings, not with 2 ("fewer
-  // than y rings away", seed 3.4), and with 1 ring nothing does. u(A) = 0,
-  // u(B) = 1: u(p1) = 0 with 2 rings, (0/1 + 1/2) / (1/1 + 1/2) with 3.
+  // than y rings away", paper, Sec. 3.4), and with 1 ring nothing does.
+  // u(A) = 0, u(B) = 1: u(p1) = 0 with 2 rings, (0/1 + 1/2) / (1/1 + 1/2)
+  // with 3.
   {
     const auto              strip = one_tetrahedron(3.);
     SurfaceMapping::Surface skin;

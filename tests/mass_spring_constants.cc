@@ -1,8 +1,9 @@
-// Gelder's spring constants (seed eq. 5), k = E sum(V) / L0^2, by hand:
-// a regular tetrahedron of edge 2 sqrt(2) has volume 8/3, so with E = 1
-// N/mm^2 every spring has k = (8/3) / 8 = 1/3 N/mm. Mirroring it through a
-// face adds a second regular tetrahedron: the three shared edges then carry
-// both volumes (k = 2/3), the six others one (k = 1/3), nine springs in all.
+// Gelder's spring constants (Mollemans et al. 2007, eq. 5),
+// k = E sum(V) / L0^2, by hand: a regular tetrahedron of edge 2 sqrt(2) has
+// volume 8/3, so with E = 1 N/mm^2 every spring has k = (8/3) / 8 = 1/3 N/mm.
+// Mirroring it through a face adds a second regular tetrahedron: the three
+// shared edges then carry both volumes (k = 2/3), the six others one
+// (k = 1/3), nine springs in all.
 
 #include <softface/core/tetrahedron.h>
 #include <softface/models/mass_spring.h>

@@ -3,9 +3,9 @@
 // without the inversion guard, to the same answer); a rigid
 // motion of every join point (30 degrees about (1,1,0) and a shift) moves the
 // free points by the same rigid motion, which no linear model can do; and the
-// seed's largest motion (16.7 mm) and 25 mm stay finite and either converge
-// or stop with a message stating the pending step and the inverted
-// tetrahedra (springs alone let the tissue above the bone collapse).
+// largest motion of Mollemans et al. 2007 (16.7 mm) and 25 mm stay finite and
+// either converge or stop with a message stating the pending step and the
+// inverted tetrahedra (springs alone let the tissue above the bone collapse).
 
 #include <softface/core/error.h>
 #include <softface/models/mass_spring.h>

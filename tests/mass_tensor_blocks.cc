@@ -1,7 +1,7 @@
-// The mass tensors K_jj and K_jk (seed eqs. 6-10) are exactly the 3x3 blocks
-// of the linear FEM stiffness matrix (relative 1e-12), on a distorted mesh
-// with many distinct element shapes; and K_jk is zero exactly where the FEM
-// matrix has no block (points sharing no tetrahedron).
+// The mass tensors K_jj and K_jk (Mollemans et al. 2007, eqs. 6-10) are exactly
+// the 3x3 blocks of the linear FEM stiffness matrix (relative 1e-12), on a
+// distorted mesh with many distinct element shapes; and K_jk is zero exactly
+// where the FEM matrix has no block (points sharing no tetrahedron).
 
 #include <softface/models/linear_fem.h>
 #include <softface/models/mass_tensor.h>

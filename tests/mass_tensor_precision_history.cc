@@ -1,10 +1,10 @@
-// The per-sweep precision history of the MTM (seed 2.3.5, Fig. 1), which
-// benchmarks/run_all.sh plots. Without the active set every sweep updates
-// every free point in the same order, so the iterates do not depend on the
-// stop threshold: the history of a long run at sweep N must equal the
-// precision that "Report precision" measures independently for a run that
-// stopped after N sweeps (to the six digits the CSV holds), and the history
-// must end converged.
+// The per-sweep precision history of the MTM (Mollemans et al. 2007,
+// Sec. 2.3.5, Fig. 1), which benchmarks/run_all.sh plots. Without the active
+// set every sweep updates every free point in the same order, so the iterates
+// do not depend on the stop threshold: the history of a long run at sweep N
+// must equal the precision that "Report precision" measures independently for a
+// run that stopped after N sweeps (to the six digits the CSV holds), and the
+// history must end converged.
 
 #include <softface/models/mass_tensor.h>
 

@@ -1,13 +1,13 @@
-// The seed's local dynamic stop criterion (2.3.3) on the 6 mm cube (35k
-// tetrahedra): at the default threshold (0.001 mm per sweep, Table 1) the
-// largest distance of a free point to the converged answer (the seed's
-// "minimal precision") stays within the seed's 0.3 mm bound; the active set
-// changes the answer by less than that bound while doing fewer point updates
-// than sweeping every point; damped Jacobi order meets the bound too, while
-// undamped Jacobi is detected as diverging with a clear message. Gauss-Seidel
-// damped by the smallest factor accepted (0.5) meets the bound as well: the
-// criterion looks at the whole change, not the damped step (factor 0.01
-// once stopped at once and reported success, issue 15).
+// The local dynamic stop criterion of Mollemans et al. 2007 (Sec. 2.3.3) on the
+// 6 mm cube (35k tetrahedra): at the default threshold (0.001 mm per sweep,
+// Table 1) the largest distance of a free point to the converged answer (the
+// paper's "minimal precision") stays within the paper's 0.3 mm bound; the
+// active set changes the answer by less than that bound while doing fewer point
+// updates than sweeping every point; damped Jacobi order meets the bound too,
+// while undamped Jacobi is detected as diverging with a clear message.
+// Gauss-Seidel damped by the smallest factor accepted (0.5) meets the bound as
+// well: the criterion looks at the whole change, not the damped step (with the
+// damped step, factor 0.01 would stop at once and report success).
 
 #include <softface/core/error.h>
 #include <softface/models/mass_tensor.h>
@@ -25,7 +25,7 @@ SOFTFACE_TEST(mass_tensor_stop_criterion)
     softface_tests::move_bone(scene, Point<3>(0, 0, 6));
   deallog << "tets: " << scene.triangulation.n_active_cells() << std::endl;
 
-  // The seed's scheme: factor 1, its criterion alone (softface's default
+  // The paper's scheme: factor 1, its criterion alone (softface's default
   // over-relaxes and checks the stop: mass_tensor_stop_distance).
   Models::MassTensor active, everyone, jacobi, damped;
   active.set_scheme(true, 1e-3, 10, true);

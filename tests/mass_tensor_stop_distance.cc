@@ -1,13 +1,14 @@
-// The mass tensor model's checked stop (issue 16) on a scene where the
-// seed's criterion alone ends far from the answer: an off-centre bone turned
-// and moved, top and bottom faces traction free (slow convergence). With a
-// gradient threshold of 0.01 mm per sweep the seed's scheme stops more than
-// the seed's 0.3 mm bound from the converged answer of the same equations
-// (computed by a direct solve); the same threshold with the stop checked
-// ('Stop distance' 0.1 mm: the rate of the last sweeps extrapolated) ends
+// The mass tensor model's checked stop on a scene where the
+// criterion of Mollemans et al. 2007 alone ends far from the answer: an
+// off-centre bone turned and moved, top and bottom faces traction free (slow
+// convergence). With a gradient threshold of 0.01 mm per sweep the paper's
+// scheme stops more than the paper's 0.3 mm bound from the converged answer of
+// the same equations (computed by a direct solve); the same threshold with the
+// stop checked ('Stop distance' 0.1 mm: the rate of the last sweeps
+// extrapolated) ends
 // within 0.2 mm, and so do softface's defaults (over-relaxation 1.8,
 // threshold 0.001, stop distance 0.1) with fewer point updates than the
-// seed's scheme at its own default threshold.
+// paper's scheme at its own default threshold.
 
 #include <softface/core/planning.h>
 #include <softface/models/mass_tensor.h>
@@ -42,10 +43,10 @@ SOFTFACE_TEST(mass_tensor_stop_distance)
     return model.report();
   };
 
-  const auto seed_coarse = run(0.01, 1., 0., "seed's scheme, threshold 0.01");
+  const auto paper_coarse = run(0.01, 1., 0., "paper's scheme, threshold 0.01");
   softface_tests::check_above(
-    "seed's scheme, threshold 0.01: distance to the answer (mm)",
-    seed_coarse.precision_max,
+    "paper's scheme, threshold 0.01: distance to the answer (mm)",
+    paper_coarse.precision_max,
     0.3,
     2);
   const auto checked_coarse = run(0.01, 1., 0.1, "checked, threshold 0.01");
@@ -55,16 +56,16 @@ SOFTFACE_TEST(mass_tensor_stop_distance)
     0.2,
     2);
 
-  const auto seed     = run(1e-3, 1., 0., "seed's scheme");
+  const auto paper    = run(1e-3, 1., 0., "paper's scheme");
   const auto defaults = run(1e-3, 0. /* auto */, 0.1, "softface's defaults");
   softface_tests::check_below(
     "softface's defaults: distance to the answer (mm)",
     defaults.precision_max,
     0.2,
     2);
-  softface_tests::check_below("point updates, defaults / seed's scheme",
+  softface_tests::check_below("point updates, defaults / paper's scheme",
                               double(defaults.point_updates) /
-                                seed.point_updates,
+                                paper.point_updates,
                               1.,
                               2);
 }

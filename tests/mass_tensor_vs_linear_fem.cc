@@ -1,10 +1,10 @@
 // Run to full convergence (stop threshold 0), the mass tensor model solves
 // the linear FEM equations: its answer equals the direct linear FEM solve to
-// 1e-6 mm, in the seed's Gauss-Seidel order and over-relaxed (SOR 1.8), with
-// a rotation in the planning so that all three components are exercised.
-// And the precision it reports at its default stop threshold (against the
-// converged answer it computes from its own tensors) is the distance to the
-// linear FEM answer.
+// 1e-6 mm, in the Gauss-Seidel order of Mollemans et al. 2007 and over-relaxed
+// (SOR 1.8), with a rotation in the planning so that all three components are
+// exercised. And the precision it reports at its default stop threshold
+// (against the converged answer it computes from its own tensors) is the
+// distance to the linear FEM answer.
 
 #include <softface/core/displacement.h>
 #include <softface/models/linear_fem.h>

@@ -1,4 +1,4 @@
-// Every rank reads the scene's mesh (issue 20), run by ctest on 2 and 3
+// Every rank reads the scene's mesh, run by ctest on 2 and 3
 // ranks (mesh_read_on_ranks.mpirun=N.output): when one rank alone cannot read
 // it (here: a rank given a file that does not exist, as a node that does not
 // see the file would be), every rank throws the same error, that rank's

@@ -1,4 +1,4 @@
-// softface's own mesh readers (gmsh 2.2 and 4.1, legacy VTK; issue 15)
+// softface's own mesh readers (gmsh 2.2 and 4.1, legacy VTK)
 // against deal.II's GridIn on valid files: the same cells on the same
 // points, the same material ids, the same boundary ids on every boundary
 // face. (Files the checks refuse are in tests/bad_input and the fuzzer.)

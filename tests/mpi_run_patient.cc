@@ -1,4 +1,4 @@
-// A patient scene on several MPI ranks (issue 20), by ctest on 2 ranks
+// A patient scene on several MPI ranks, by ctest on 2 ranks
 // (mpi_run_patient.mpirun=2.output; Mesh_3 on rank 0 beside a third rank
 // that waits would oversubscribe this machine's two cores): rank 0 alone
 // runs the pipeline (tests/mpi_run_patient.prm, the phantom of

@@ -1,4 +1,4 @@
-// A scene file run by the simulator on several MPI ranks (issue 20), by
+// A scene file run by the simulator on several MPI ranks, by
 // ctest on 2 and 3 ranks (mpi_run_scene.mpirun=N.output): every rank ends
 // with exit code 0 and the serial models' answers (linear FEM distributed:
 // equal to the serial model to 1e-8 relative; the mass tensor model

@@ -1,5 +1,5 @@
 // A scene run by the simulator on several MPI ranks in groups of two whose
-// members hold none of the scene's cells (issue 20), by ctest on 2, 3 and 4
+// members hold none of the scene's cells, by ctest on 2, 3 and 4
 // ranks (mpi_run_without_cells.mpirun=N.output; on 4 a root other than rank
 // 0 has a member): only each group's root reads the mesh (the gmsh cube);
 // a member's scene has no cells but the same counts, vertices, DoFs,

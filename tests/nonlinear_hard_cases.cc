@@ -1,8 +1,8 @@
-// Hard cases stay numerically stable: the seed's largest motion (16.7 mm)
-// and 25 mm, Poisson's ratio 0.49, and a mesh with sliver tetrahedra. Each
-// either converges to a finite answer with the join points where planned,
-// or stops with an error that names the load step, the residual and the
-// reason; never NaN, never a hang (the test would time out).
+// Hard cases stay numerically stable: the largest motion of Mollemans et
+// al. 2007 (16.7 mm) and 25 mm, Poisson's ratio 0.49, and a mesh with sliver
+// tetrahedra. Each either converges to a finite answer with the join points
+// where planned, or stops with an error that names the load step, the
+// residual and the reason; never NaN, never a hang (the test would time out).
 // On an indefinite tangent (St. Venant-Kirchhoff's first 16.7 mm step, as
 // the Cholesky factorisation finds) CG reports it too, from the negative
 // curvature it meets, instead of running to its iteration limit (with

@@ -1,4 +1,4 @@
-// How the nonlinear models reach a planning (issue 18).
+// How the nonlinear models reach a planning.
 // - The rigid load path: every fraction of a planned motion is rigid (the
 //   distances between bone points are kept), the whole fraction is the
 //   motion; the displacement scaled linearly is not rigid on the way (a bone

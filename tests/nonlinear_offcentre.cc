@@ -1,5 +1,5 @@
-// issue 18's off-centre case against CalculiX NLGEOM (the same St.
-// Venant-Kirchhoff equations on the same gmsh mesh,
+// The off-centre case (doc/results/nonlinear_solvers.md) against CalculiX
+// NLGEOM (the same St. Venant-Kirchhoff equations on the same gmsh mesh,
 // tests/data/offcentre_coarse/README.md): a bone box turned by 25 degrees
 // and pushed 10 mm towards a held face, 16.7 mm at most.
 // - CalculiX's increments at loads 0.35 and 0.575 (its last with no
@@ -106,9 +106,9 @@ SOFTFACE_TEST(nonlinear_offcentre)
         // The scale: the free forces of the same load's join motion alone
         // (free points not moved), linearised from 1 % of the motion: the
         // join motion alone inverts tetrahedra at these loads, where the
-        // forces are not defined (the old scale, evaluated at the whole
-        // motion, was whatever the evaluation summed before its first
-        // inverted cell, and changed with the cell order).
+        // forces are not defined (a scale evaluated at the whole motion
+        // would be whatever the evaluation summed before its first
+        // inverted cell, and change with the cell order).
         Vector<double> join_motion = prescribed;
         join_motion *= 0.01;
         Vector<double> join_forces(prescribed.size());

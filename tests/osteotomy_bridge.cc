@@ -1,5 +1,6 @@
-// An osteotomy at two voxel sizes (seed 3.2): a bone bar along y, 10 x 100
-// x 10 mm, cut by a frontal plane at y = 0.2 mm with a 1.5 mm kerf.
+// An osteotomy at two voxel sizes (Mollemans et al. 2007, Sec. 3.2): a bone bar
+// along y, 10 x 100 x 10 mm, cut by a frontal plane at y = 0.2 mm with a 1.5 mm
+// kerf.
 //
 // With a box that holds the bar's whole cross-section, the bar splits into
 // a front and a back part at 1 mm and at 0.5 mm voxels alike; their volumes

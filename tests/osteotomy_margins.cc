@@ -1,8 +1,8 @@
-// The detached margins of an osteotomy (seed 3.2; the setbacks' splits): a
-// bone bar along y cut by two frontal planes, one with the osteotomy's
-// margin (3 mm) and one with a margin of its own (8 mm, as a setback's
-// sagittal splits get). Bone within a cut's margin, and only there, is
-// detached: per cut, the detached voxels lie within its margin and fill the
+// The detached margins of an osteotomy (Mollemans et al. 2007, Sec. 3.2; the
+// setbacks' splits): a bone bar along y cut by two frontal planes, one with the
+// osteotomy's margin (3 mm) and one with a margin of its own (8 mm, as a
+// setback's sagittal splits get). Bone within a cut's margin, and only there,
+// is detached: per cut, the detached voxels lie within its margin and fill the
 // bar's cross-section over the margin's width on each side (kerf included).
 // Parsed, a cut without a margin of its own takes the osteotomy's; a margin
 // out of range is refused with the parameter's name.

@@ -1,10 +1,10 @@
-// The matrix of a rank's own rows filled by the cells at them (issue 20),
+// The matrix of a rank's own rows filled by the cells at them,
 // run by ctest on 2 and 3 ranks (owned_rows_matrix.mpirun=N.output): every
 // row a rank owns equals the row of the same matrix assembled on one rank,
-// entry for entry and with the same columns, on the seed's cube and the
-// shared gmsh cube. Each cell adds integers made from its serial number and
-// its DoFs' serial numbers, so the sums are exact whatever their order.
-// Checked with the join DoFs' couplings kept (a Newton tangent), after a
+// entry for entry and with the same columns, on the cube of Mollemans et al.
+// 2007 and the shared gmsh cube. Each cell adds integers made from its serial
+// number and its DoFs' serial numbers, so the sums are exact whatever their
+// order. Checked with the join DoFs' couplings kept (a Newton tangent), after a
 // second assembly (zeroing must leave nothing behind), after the join DoFs
 // are eliminated, and with the couplings dropped (the linear FEM
 // stiffness). The cells' DoFs as the layout gives them (point blocks: the

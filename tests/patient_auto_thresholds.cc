@@ -1,10 +1,10 @@
-// Segmentation thresholds chosen from the scan's histogram ('auto', patient
-// seed 3.1). On the phantom (1.5 mm voxels, no metal streaks) the chosen
-// thresholds segment every tissue as the fixed defaults do, to 1 % of its
-// volume (the bone is printed against the phantom's truth too). The same CT
-// in other units (value * 2 + 1024 and value * 0.5 - 300: a scanner's
-// stored values are a scale and an offset away from HU), and the CT in HU
-// with a scanner's padding outside the reconstructed circle, get the same
+// Segmentation thresholds chosen from the scan's histogram ('auto', patient;
+// Mollemans et al. 2007, Sec. 3.1). On the phantom (1.5 mm voxels, no metal
+// streaks) the chosen thresholds segment every tissue as the fixed defaults do,
+// to 1 % of its volume (the bone is printed against the phantom's truth too).
+// The same CT in other units (value * 2 + 1024 and value * 0.5 - 300: a
+// scanner's stored values are a scale and an offset away from HU), and the CT
+// in HU with a scanner's padding outside the reconstructed circle, get the same
 // labels but for a few voxels, and thresholds that are those of the CT in
 // HU once mapped back. Thresholds that ignored the scan (the defaults in
 // HU, say) would miss the body and the bone of the rescaled CTs: most

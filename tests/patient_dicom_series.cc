@@ -1,10 +1,10 @@
 // The phantom's CT as a DICOM series, as a scanner's export holds one, read
-// back through ITK and GDCM (seed 3.1's CT input). tests/dicom_series.py
-// writes a volume as a series of int16 slices whose stored values become
-// Hounsfield units only through the rescale (slope 0.5, intercept -1024),
-// files and instance numbers counting down where the slice positions go up
-// along the normal, and beside it, in the same folder, a scout the reader
-// must leave out: a lateral image of another SeriesInstanceUID and a
+// back through ITK and GDCM (the CT input of Mollemans et al. 2007, Sec. 3.1).
+// tests/dicom_series.py writes a volume as a series of int16 slices whose
+// stored values become Hounsfield units only through the rescale (slope 0.5,
+// intercept -1024), files and instance numbers counting down where the slice
+// positions go up along the normal, and beside it, in the same folder, a scout
+// the reader must leave out: a lateral image of another SeriesInstanceUID and a
 // frontal one with the scan's (as some scanners write it) but its own
 // series number, both of another size and orientation.
 //

@@ -1,12 +1,12 @@
-// Planning from a post-operative skull (seed 3.2): ICP recovers a known
-// rigid motion of a bone part. The part is the phantom's mandible (its
-// surface from marching cubes of the truth labels at 2 mm voxels); the
-// post-operative skull is the cranium's surface with the mandible's moved by
-// a known motion (7 degrees about an oblique axis through the chin, and
-// 4, -6, 3 mm). From starts 5 mm and 5 degrees off the truth, ICP gives the
-// motion back to 0.05 mm (the largest error at any mandible point) and 0.05
-// degrees. And a start that leaves no pair within the rejection distance
-// is refused with a message, not answered.
+// Planning from a post-operative skull (Mollemans et al. 2007, Sec. 3.2): ICP
+// recovers a known rigid motion of a bone part. The part is the phantom's
+// mandible (its surface from marching cubes of the truth labels at 2 mm
+// voxels); the post-operative skull is the cranium's surface with the
+// mandible's moved by a known motion (7 degrees about an oblique axis through
+// the chin, and 4, -6, 3 mm). From starts 5 mm and 5 degrees off the truth, ICP
+// gives the motion back to 0.05 mm (the largest error at any mandible point)
+// and 0.05 degrees. And a start that leaves no pair within the rejection
+// distance is refused with a message, not answered.
 
 #include <softface/core/error.h>
 #include <softface/patient/icp.h>

@@ -1,11 +1,11 @@
-// The tetrahedral soft-tissue mesh of a patient (seed 3.1-3.3): the phantom
-// at 2 mm voxels, segmented, its skull split by a Le Fort I cut into the
-// cranium and the maxilla (the mandible is a part of its own), and the soft
-// tissue of a region of interest meshed by CGAL Mesh_3. The mesh's volume
-// equals the segmented soft tissue's within 2%, no cell is inverted, its
-// smallest dihedral angle is at least 5 degrees, every bone part touches the
-// mesh (it has join points), and the mesh written as .vtu and .msh reads
-// back through the Scene's readers with the same cells and volume.
+// The tetrahedral soft-tissue mesh of a patient (Mollemans et al. 2007,
+// Sec. 3.1-3.3): the phantom at 2 mm voxels, segmented, its skull split by a Le
+// Fort I cut into the cranium and the maxilla (the mandible is a part of its
+// own), and the soft tissue of a region of interest meshed by CGAL Mesh_3. The
+// mesh's volume equals the segmented soft tissue's within 2%, no cell is
+// inverted, its smallest dihedral angle is at least 5 degrees, every bone part
+// touches the mesh (it has join points), and the mesh written as .vtu and .msh
+// reads back through the Scene's readers with the same cells and volume.
 
 #include <softface/io/mesh_reader.h>
 #include <softface/patient/osteotomy.h>

@@ -1,12 +1,12 @@
-// The patient pipeline's first stages against the phantom's truth (seed
-// 3.1): a phantom head acquired as a noisy, blurred CT at 1.5 mm voxels,
-// written as NIfTI and read back through ITK (the frame must survive), then
-// segmented. The segmented volumes of the body, the bone, the facial soft
-// tissue and the internal soft tissue equal the phantom's truth labels to
-// 1%; the dense skin surface from marching cubes lies within half a voxel of
-// the phantom's analytic skin (the zero level of its implicit function,
-// reached by Newton steps along the gradient), and its skull surface is
-// closed.
+// The patient pipeline's first stages against the phantom's truth
+// (Mollemans et al. 2007, Sec. 3.1): a phantom head acquired as a noisy,
+// blurred CT at 1.5 mm voxels, written as NIfTI and read back through ITK (the
+// frame must survive), then segmented. The segmented volumes of the body, the
+// bone, the facial soft tissue and the internal soft tissue equal the phantom's
+// truth labels to 1%; the dense skin surface from marching cubes lies within
+// half a voxel of the phantom's analytic skin (the zero level of its implicit
+// function, reached by Newton steps along the gradient), and its skull surface
+// is closed.
 
 #include <softface/patient/image_io.h>
 #include <softface/patient/phantom.h>

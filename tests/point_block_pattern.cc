@@ -1,6 +1,6 @@
 // The linear and nonlinear FEM models make their sparsity from the points'
 // neighbours and put each cell's entries straight at their places
-// (PointBlockPattern, issue 16). Independent truth: deal.II's pattern of
+// (PointBlockPattern). Independent truth: deal.II's pattern of
 // the same layout (DoFTools::make_sparsity_pattern, through
 // ConstrainedSystem), the place deal.II's SparsityPattern gives each entry,
 // and the stiffness assembled by merging each cell row into deal.II's rows.

@@ -5,11 +5,11 @@
 // and set back by 5 mm; every model reaches full load on both plans, its join
 // points where the plan puts them, nonlinear FEM within 2 mm of linear FEM.
 //
-// At 2 mm voxels the osteotomy's 3 mm detached margin would end at the
-// centres of the voxel layer next to the occlusal kerf and detach nothing:
-// the tissue in the kerf, pinned to both jaws 2 mm apart, was sheared by the
-// 5 mm advancement (nonlinear FEM moved a cheek point 8.2 mm, 6.5 mm from
-// linear FEM; on 16000 tetrahedra it stopped at load 0.875). The margin now
+// At 2 mm voxels a 3 mm detached margin alone would end at the centres of
+// the voxel layer next to the occlusal kerf and detach nothing: the tissue
+// in the kerf, pinned to both jaws 2 mm apart, would be sheared by the 5 mm
+// advancement (nonlinear FEM would move a cheek point 8.2 mm, 6.5 mm from
+// linear FEM, and stop at load 0.875 on 16000 tetrahedra). So the margin
 // reaches at least one voxel beyond the kerf.
 //
 // The cells that join two bones: a cell whose four vertices are join points

@@ -1,7 +1,8 @@
 // The default scene, prm/default.prm (what ./run.sh runs), through the
-// whole simulator: all four models on the seed's 35k-tetrahedron cube. The
-// printed table pins down every model's figures (iterations, largest
-// displacement, difference to linear FEM, precision, inverted tetrahedra).
+// whole simulator: all four models on the 35k-tetrahedron cube of Mollemans et
+// al. 2007. The printed table pins down every model's figures (iterations,
+// largest displacement, difference to linear FEM, precision, inverted
+// tetrahedra).
 
 #include "run_scene.h"
 

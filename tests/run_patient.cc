@@ -1,12 +1,11 @@
-// A phantom patient through the whole simulator (seed 3.1-3.3 end to end):
-// CT -> labels -> surfaces -> bone parts -> mesh -> join points -> all four
-// models (tests/run_patient.prm). The counts are printed and checked against
-// ranges (another CGAL may mesh differently). Every model runs; its join
-// points move exactly as planned, its free points by a few millimetres; the
-// converged
-// mass tensor model equals linear FEM to 1e-6 mm on the patient's mesh (it
-// solves the same equations); nonlinear FEM and the mass spring model stay
-// within a millimetre or two of it at these motions.
+// A phantom patient through the whole simulator (Mollemans et al. 2007,
+// Sec. 3.1-3.3, end to end): CT -> labels -> surfaces -> bone parts -> mesh ->
+// join points -> all four models (tests/run_patient.prm). The counts are
+// printed and checked against ranges (another CGAL may mesh differently). Every
+// model runs; its join points move exactly as planned, its free points by a few
+// millimetres; the converged mass tensor model equals linear FEM to 1e-6 mm on
+// the patient's mesh (it solves the same equations); nonlinear FEM and the mass
+// spring model stay within a millimetre or two of it at these motions.
 
 #include <softface/core/planning.h>
 #include <softface/patient/image_io.h>

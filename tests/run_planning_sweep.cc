@@ -1,4 +1,4 @@
-// Several plans per scene (issue 17): a sweep and a listed plan, each model
+// Several plans per scene: a sweep and a listed plan, each model
 // set up once. The report has one row per model and plan (every plan's
 // largest displacement is its join points' largest motion, and each model is
 // compared with linear FEM on the same plan). Run again with

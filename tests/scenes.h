@@ -15,9 +15,9 @@ namespace softface_tests
 {
   using namespace softface;
 
-  /// The seed's cube: outer faces held (segment 0, "fixed"), inner cube
-  /// (segment 1, "bone") free to be moved by a planning. The upper half
-  /// (z > 40) has material id @p upper_material_id (for two tissues), the
+  /// The cube of Mollemans et al. 2007: outer faces held (segment 0, "fixed"),
+  /// inner cube (segment 1, "bone") free to be moved by a planning. The upper
+  /// half (z > 40) has material id @p upper_material_id (for two tissues), the
   /// rest of the tissue 1.
   inline void
   make_cube_scene(
@@ -36,7 +36,7 @@ namespace softface_tests
   }
 
   /**
-   * The seed's cube with its interior vertices moved by a smooth field that
+   * The paper's cube with its interior vertices moved by a smooth field that
    * vanishes on the outer faces, so that no tetrahedron is a right-angled
    * Kuhn tetrahedron and element shapes vary. With @p with_bone the inner
    * cube is segment 1 ("bone") besides the held faces (segment 0), without
@@ -67,7 +67,7 @@ namespace softface_tests
     scene.setup();
   }
 
-  /// The seed's cube held on its face z = 0 only (segment 0, "fixed"; the
+  /// The paper's cube held on its face z = 0 only (segment 0, "fixed"; the
   /// other outer faces free), the inner cube segment 1 ("bone"). With the
   /// cells in slabs of z, a rank of a partition may own no join point.
   inline void
@@ -109,7 +109,7 @@ namespace softface_tests
     scene.setup();
   }
 
-  /// The seed's planning: the inner cube moves by @p translation, rotated by
+  /// The paper's planning: the inner cube moves by @p translation, rotated by
   /// @p angle degrees about z through the cube's centre.
   inline Vector<double>
   move_bone(const Scene    &scene,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# softface serve in a real browser (issue 17): start `softface serve` on
+# softface serve in a real browser: start `softface serve` on
 # tests/serve_cube.prm (any free port), drive its page in headless Chromium
 # (web/test/serve_browser.mjs: load, 10 slider moves each waited for until the
 # face is redrawn, 7 bad requests answered with errors while the server

@@ -1,6 +1,6 @@
-// The three linear solvers give the same displacement on the seed's cube to
-// 1e-8 relative; the direct solver factorises once and reuses the
-// factorisation for later plannings; and the model is linear in the
+// The three linear solvers give the same displacement on the cube of Mollemans
+// et al. 2007 to 1e-8 relative; the direct solver factorises once and reuses
+// the factorisation for later plannings; and the model is linear in the
 // planning (twice the motion, twice the displacement).
 
 #include <softface/models/linear_fem.h>

@@ -1,7 +1,7 @@
 #ifndef softface_tests_h
 #define softface_tests_h
 
-// A small tests.h of our own (deal.II 9.4 does not install one). Every
+// softface's own small tests.h (deal.II 9.4 does not install one). Every
 // tests/<name>.cc defines one test with SOFTFACE_TEST(name); the driver in
 // tests/main.cc runs it with deallog going to stdout, and ctest compares that
 // with tests/<name>.output by numdiff (absolute 1e-10, relative 1e-8).

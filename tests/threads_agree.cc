@@ -1,4 +1,4 @@
-// Models/Threads changes the speed, not the answer (issue 16). Threaded
+// Models/Threads changes the speed, not the answer. Threaded
 // assembly splits the rows among the threads (RowPartition) so that every
 // row sums its cells in cell order: the linear stiffness assembled on 3
 // threads equals the one-thread matrix bit for bit, and every registered

@@ -1,8 +1,8 @@
-// Distances between surfaces (seed 3.5.1): a surface moved by d along its
-// normals is at signed distance d from the original (a sphere moved outwards,
-// exactly, since the vertex is the closest point of the inscribed
-// polyhedron; a plane either way); the statistics of a small distance map
-// against values computed by hand; masks; a non-manifold surface refused.
+// Distances between surfaces (Mollemans et al. 2007, Sec. 3.5.1): a surface
+// moved by d along its normals is at signed distance d from the original (a
+// sphere moved outwards, exactly, since the vertex is the closest point of the
+// inscribed polyhedron; a plane either way); the statistics of a small distance
+// map against values computed by hand; masks; a non-manifold surface refused.
 
 #include <softface/core/error.h>
 #include <softface/validation/distances.h>

@@ -1,8 +1,8 @@
-// TPS-RPM correspondences to a continuous surface (validation, seed 3.5.1).
-// A face-like height field of 120 x 150 mm (a nose, a chin, some waviness)
-// sampled at 5000 random points is matched to the same surface triangulated
-// on a 1 mm grid: the distances are the grid's chords (near zero; the
-// point-to-point matching of two samplings slid 2 mm along the surface).
+// TPS-RPM correspondences to a continuous surface (validation; Mollemans et al.
+// 2007, Sec. 3.5.1). A face-like height field of 120 x 150 mm (a nose, a chin,
+// some waviness) sampled at 5000 random points is matched to the same surface
+// triangulated on a 1 mm grid: the distances are the grid's chords (near zero;
+// the point-to-point matching of two samplings slid 2 mm along the surface).
 // Matched to the surface moved by a known smooth warp, the percentiles of
 // the distances to the corresponding points come close to those to the true
 // partners (the warped points), which closest points underestimate: a

@@ -1,10 +1,10 @@
 // With homogeneous tissue and only prescribed displacements, the answer does
-// not depend on Young's modulus (seed 3.4), for every registered model with
-// its default parameters, while it does depend on Poisson's ratio (so the
-// comparison can tell a wrong material apart). Also at both ends of the
-// range softface accepts (1e-3 and 1e13 Pa): far below it forces underflow
-// (at 1e-200 Pa the nonlinear model once returned u = 0 as "converged" and
-// CG's residual became NaN; issue 15).
+// not depend on Young's modulus (Mollemans et al. 2007, Sec. 3.4), for every
+// registered model with its default parameters, while it does depend on
+// Poisson's ratio (so the comparison can tell a wrong material apart). Also at
+// both ends of the range softface accepts (1e-3 and 1e13 Pa): far below it
+// forces underflow (at 1e-200 Pa a nonlinear solve can return u = 0 as
+// "converged" and CG's residual become NaN).
 
 #include <softface/models/interface.h>
 

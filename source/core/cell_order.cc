@@ -1,4 +1,4 @@
-// Cells along a Hilbert curve, vertices in first-touch order (issue 16).
+// Cells along a Hilbert curve, vertices in first-touch order.
 
 #include <deal.II/base/utilities.h>
 
@@ -187,8 +187,8 @@ namespace softface
 
       // Then the cells in the order of their vertex numbers, as a grid's
       // cells are: a matrix row is assembled from cells that follow each
-      // other, and its columns arrive nearly sorted (measured on a 105k
-      // gmsh cube: sparsity and assembly 5-10 % faster than curve order).
+      // other, and its columns arrive nearly sorted (on a 105k gmsh cube
+      // sparsity and assembly are 5-10 % faster than in curve order).
       // (Ties keep the curve order: the pairs compare it last.)
       std::vector<std::pair<std::array<unsigned int, 4>, unsigned int>>
         sorted_vertices_of(cells.size());

@@ -1,4 +1,4 @@
-// The scene's layout on several MPI ranks (issue 20): the serial mesh
+// The scene's layout on several MPI ranks: the serial mesh
 // partitioned, the parts of a group of ranks described by its root from the
 // mesh's cells (no copy of the mesh) and sent to the members as plain arrays,
 // a fully distributed triangulation and DoFHandler per rank, the join points
@@ -580,7 +580,8 @@ namespace softface
       // A coarse cell id is the serial cell's active index only on an
       // unrefined mesh (softface's meshes are).
       AssertThrow(scene.triangulation.n_levels() <= 1,
-                  ExcMessage("A refined mesh cannot be distributed yet."));
+                  ExcMessage("A refined mesh cannot be distributed over "
+                             "several MPI ranks."));
       const SubCommunicator roots(communicator, rank == root);
       if (rank == root)
         {

@@ -1,6 +1,6 @@
 // The homogeneous tissue (core): Young's modulus and Poisson's ratio from the
 // parameter file, and the Lame coefficients every model derives from them
-// (seed eqs. 6-7).
+// (Mollemans et al. 2007, eqs. 6-7).
 
 #include <softface/core/error.h>
 #include <softface/core/material.h>
@@ -11,14 +11,14 @@ namespace softface
   Material::declare_parameters(ParameterHandler &prm)
   {
     prm.enter_subsection("Material");
-    prm.declare_entry("Young's modulus",
-                      "3000",
-                      Patterns::Double(min_youngs_modulus_pa,
-                                       max_youngs_modulus_pa),
-                      "Young's modulus of the soft tissue in Pa, in [1e-3, "
-                      "1e13]. With only "
-                      "prescribed displacements and homogeneous tissue the "
-                      "displacement does not depend on it (seed 3.4).");
+    prm.declare_entry(
+      "Young's modulus",
+      "3000",
+      Patterns::Double(min_youngs_modulus_pa, max_youngs_modulus_pa),
+      "Young's modulus of the soft tissue in Pa, in [1e-3, "
+      "1e13]. With only "
+      "prescribed displacements and homogeneous tissue the "
+      "displacement does not depend on it (Mollemans et al. 2007, Sec. 3.4).");
     prm.declare_entry("Poisson's ratio",
                       "0.46",
                       Patterns::Double(0., 0.5),

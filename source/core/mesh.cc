@@ -1,6 +1,6 @@
 // Where a scene's tetrahedra come from and what they must be (core): the
-// seed's cube benchmark generated with a target size, grading and symmetric
-// split, and the check that every cell is a positively oriented,
+// cube benchmark of Mollemans et al. 2007 generated with a target size, grading
+// and symmetric split, and the check that every cell is a positively oriented,
 // non-degenerate tetrahedron. Mesh files are read in io/mesh_reader.cc.
 
 #include <deal.II/grid/reference_cell.h>
@@ -61,7 +61,8 @@ namespace softface
                         Patterns::Double(1., 1000.),
                         "Ratio of the grid spacing at the outer faces to the "
                         "spacing at the planes of the inner cube's faces. 1 "
-                        "gives the seed's uniform grid; larger values grow the "
+                        "gives the uniform grid of Mollemans et al. 2007; "
+                        "larger values grow the "
                         "spacing linearly with the distance from those planes "
                         "(1 + (Grading - 1) d / ((L - s) / 2)), which puts "
                         "the tetrahedra where the inner cube's edges and "
@@ -147,7 +148,7 @@ namespace softface
         // steps d_i = ((1 + c D)^(i/n) - 1) / c. Inside the inner cube the two
         // halves grade towards its two faces.
         const double c = (parameters.grading - 1.) / a;
-        // (Only for c > 0; the uniform grid keeps the seed's spacing below.)
+        // (Only for c > 0; the uniform grid keeps the paper's spacing below.)
         const auto graded_steps = [c](const double D, const double h) {
           const double       total = std::log1p(c * D);
           const unsigned int n =

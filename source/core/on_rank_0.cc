@@ -1,4 +1,4 @@
-// What one MPI rank does for all, failing on every rank alike (issue 20).
+// What one MPI rank does for all, failing on every rank alike.
 // See core/on_rank_0.h.
 
 #include <softface/core/error.h>

@@ -1,4 +1,4 @@
-// Process start-up and whole-process wall time (issue 16).
+// Process start-up and whole-process wall time.
 
 #include <softface/core/process.h>
 

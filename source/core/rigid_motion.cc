@@ -1,4 +1,5 @@
-// A bone segment's planned motion x -> R (x - c) + c + t (core, seed 3.3).
+// A bone segment's planned motion x -> R (x - c) + c + t (core; Mollemans et
+// al. 2007, Sec. 3.3).
 
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/physics/transformations.h>

@@ -1,6 +1,7 @@
 // The scene every model works on (core): the mesh (generated or read), the one
 // DoF layout, the tissue, and which vertices are join points of which bone
-// segment (seed 3.3), with the checks that make the problem well posed.
+// segment (Mollemans et al. 2007, Sec. 3.3), with the checks that make the
+// problem well posed.
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/base/utilities.h>
@@ -92,7 +93,8 @@ namespace softface
                       Patterns::List(Patterns::Anything()),
                       "Names of the bone segments. Each has a subsection "
                       "'Segment <name>' saying which vertices touch it; those "
-                      "are its join points (seed 3.3). The defaults describe "
+                      "are its join points (Mollemans et al. 2007, Sec. 3.3). "
+                      "The defaults describe "
                       "the generated cube.");
     for (const std::string &name : segment_names)
       {

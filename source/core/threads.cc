@@ -1,5 +1,5 @@
 // Threads: one BLAS thread per process, and deal.II's task scheduler for
-// softface's own loops (issue 16).
+// softface's own loops.
 
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/base/parallel.h>

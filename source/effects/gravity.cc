@@ -1,6 +1,6 @@
 // Gravity (effects): the tissue's weight as a body force, for every model
-// (a load in both FEMs, seed eq. 12's f_j in the mass tensor model, a nodal
-// force in the mass spring model).
+// (a load in both FEMs, the f_j of eq. 12 of Mollemans et al. 2007 in the mass
+// tensor model, a nodal force in the mass spring model).
 
 #include <deal.II/base/utilities.h>
 #include <deal.II/grid/tria_accessor.h>

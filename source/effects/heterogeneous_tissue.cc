@@ -39,8 +39,9 @@ namespace softface
           "Young's modulus in Pa per material id, 'id: value, ...'. Every "
           "material id of the mesh outside bone must be listed. The default "
           "is for the patient meshes' labels (1 skin, 2 fat, 3 muscle): skin "
-          "stiffer than muscle stiffer than fat, fat at the seed's "
-          "homogeneous 3000 Pa; published values spread over an order of "
+          "stiffer than muscle stiffer than fat, fat at the "
+          "homogeneous 3000 Pa of Mollemans et al. 2007; published values "
+          "spread over an order of "
           "magnitude and more (see doc/effects.md), so set your own.");
         prm.declare_entry(
           "Poisson's ratios",

@@ -1,7 +1,7 @@
-// Sliding contact (effects, seed 3.3's future work): tissue on a named bone
-// surface slides along it without friction instead of being glued, in every
-// model (constraints in both FEMs, projected local updates in the mass
-// tensor and mass spring models).
+// Sliding contact (effects; future work in Mollemans et al. 2007, Sec. 3.3):
+// tissue on a named bone surface slides along it without friction instead of
+// being glued, in every model (constraints in both FEMs, projected local
+// updates in the mass tensor and mass spring models).
 
 #include <deal.II/grid/tria_accessor.h>
 #include <deal.II/grid/tria_iterator.h>

@@ -1,4 +1,4 @@
-// Linear elasticity on several MPI ranks (issue 20, a first step): the
+// Linear elasticity on several MPI ranks: the
 // linear FEM model's stiffness assembled on each rank's rows from the cells
 // at them (OwnedRowsMatrix) without the join DoFs' couplings, the right-hand
 // side from the cells at join DoFs (AffineConstraints), CG with the serial
@@ -77,8 +77,8 @@ namespace softface
       // its cells too), so every rank refuses alike.
       if (scene.has_vertex_constraints())
         throw Error("Linear elasticity on several MPI ranks does not honour "
-                    "vertex constraints (sliding contact, separated lips) "
-                    "yet; run this scene on one rank.");
+                    "vertex constraints (sliding contact, separated lips); "
+                    "run this scene on one rank.");
       if (parameters.method != "cg amg")
         throw Error("Linear elasticity on several MPI ranks solves with 'cg "
                     "amg' only, not '" +

@@ -1,5 +1,5 @@
-// The Newton tangent and forces of a nonlinear FEM model on several MPI ranks
-// (issue 20): cells added on the ranks that own their rows, the tangent a
+// The Newton tangent and forces of a nonlinear FEM model on several MPI
+// ranks: cells added on the ranks that own their rows, the tangent a
 // Trilinos matrix, the join DoFs eliminated in place and CG with ML. See
 // fe/distributed_tangent.h.
 

@@ -1,5 +1,5 @@
 // The P1 point-block sparsity and the places of its entries (fe): made from
-// the points' neighbours, the same work per cell on any mesh (issue 16).
+// the points' neighbours, the same work per cell on any mesh.
 
 #include <softface/fe/point_block_pattern.h>
 

@@ -1,4 +1,4 @@
-// Cells split by the rows they add to, for threaded assembly (issue 16).
+// Cells split by the rows they add to, for threaded assembly.
 
 #include <softface/fe/row_partition.h>
 

@@ -1,6 +1,6 @@
 // softface's reader of gmsh .msh files (ASCII 2.x and 4.1). deal.II's
 // GridIn::read_msh checks its input with debug-only assertions, so in a
-// Release build a truncated or edited file crashed or hung it (issue 15);
+// Release build a truncated or edited file can crash or hang it;
 // this reader checks everything before the mesh is built.
 
 #include <softface/io/gmsh_reader.h>

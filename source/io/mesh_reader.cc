@@ -43,7 +43,7 @@ namespace softface
       try
         {
           // softface's own readers: deal.II's check their input with
-          // debug-only assertions (issue 15).
+          // debug-only assertions.
           if (extension == "msh")
             {
               MeshData data = read_gmsh(filename);

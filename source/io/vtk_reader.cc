@@ -1,6 +1,6 @@
 // softface's reader of legacy VTK unstructured grids. deal.II's
 // GridIn::read_vtk trusts its input (a point index past the end or a cell
-// type that does not match its point count overflowed the heap, issue 15);
+// type that does not match its point count overflows the heap);
 // this reader checks every word before the mesh is built.
 
 #include <softface/core/error.h>

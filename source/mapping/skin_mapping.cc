@@ -1,7 +1,8 @@
-// Volume/surface mapping (seed 3.4, eqs. 13-14): step A builds, for every
-// point of the dense skin surface, weights of tetrahedral-mesh vertices (the
-// shape functions of the tetrahedron at the point, or inverse distances to
-// the skin points that mesh vertices were matched to); step B sums them.
+// Volume/surface mapping (Mollemans et al. 2007, Sec. 3.4, eqs. 13-14): step A
+// builds, for every point of the dense skin surface, weights of
+// tetrahedral-mesh vertices (the shape functions of the tetrahedron at the
+// point, or inverse distances to the skin points that mesh vertices were
+// matched to); step B sums them.
 
 #include <deal.II/base/timer.h>
 #include <deal.II/grid/tria_accessor.h>

@@ -1,5 +1,5 @@
-// The mesh source 'cube' (mesh_sources): the seed's cube benchmark,
-// generated (subsection Scene/Cube).
+// The mesh source 'cube' (mesh_sources): the cube benchmark of Mollemans et al.
+// 2007, generated (subsection Scene/Cube).
 
 #include <softface/core/mesh_source.h>
 
@@ -45,6 +45,6 @@ namespace softface
     SOFTFACE_REGISTER_MESH_SOURCE(
       Cube,
       "cube",
-      "generates the seed's cube benchmark (subsection Cube)")
+      "generates the cube benchmark of Mollemans et al. 2007 (subsection Cube)")
   } // namespace MeshSources
 } // namespace softface

@@ -1,4 +1,4 @@
-// Blocks of points coloured for threaded Gauss-Seidel sweeps (issue 16).
+// Blocks of points coloured for threaded Gauss-Seidel sweeps.
 
 #include <softface/core/threads.h>
 #include <softface/models/block_colouring.h>

@@ -1,6 +1,6 @@
-// The linear FEM model (models, seed 2.1): the P1 stiffness of the shared
-// layout, assembled once per scene with the join DoFs eliminated, and one
-// linear solve per planning (fe/linear_solver.h).
+// The linear FEM model (models; Mollemans et al. 2007, Sec. 2.1): the P1
+// stiffness of the shared layout, assembled once per scene with the join DoFs
+// eliminated, and one linear solve per planning (fe/linear_solver.h).
 
 #include <softface/core/distributed_layout.h>
 #include <softface/core/error.h>
@@ -28,7 +28,8 @@ namespace softface
         "Solver",
         "cg amg",
         Patterns::Selection("gmres jacobi|cg amg|direct"),
-        "Linear solver: 'gmres jacobi' (the seed's), 'cg amg' (CG with "
+        "Linear solver: 'gmres jacobi' (as in Mollemans et al. 2007), 'cg amg' "
+        "(CG with "
         "Trilinos ML algebraic multigrid and the six rigid-body modes), "
         "'direct' (sparse Cholesky by CHOLMOD; factorised once per scene, "
         "reused by every planning).");
@@ -161,9 +162,11 @@ namespace softface
                     "= cg amg or run on one rank.");
       if (scene->has_vertex_constraints())
         throw Error("linear fem: sliding contact and separated lips are not "
-                    "distributed yet; run this scene on one rank.");
+                    "available on several MPI ranks; run this scene on one "
+                    "rank.");
       if (nodal_forces.size() > 0)
-        throw Error("linear fem: nodal forces are not distributed yet.");
+        throw Error("linear fem: nodal forces are not available on several "
+                    "MPI ranks.");
       {
         const auto timed = phase("partition");
         layout           = &distributed_layout(*scene);
@@ -186,7 +189,8 @@ namespace softface
       if (distributed)
         {
           if (nodal_forces.size() > 0)
-            throw Error("linear fem: nodal forces are not distributed yet.");
+            throw Error("linear fem: nodal forces are not available on several "
+                        "MPI ranks.");
           const auto timed  = phase("solve");
           auto       result = distributed->solve(prescribed);
           displacement.swap(result.displacement);
@@ -295,10 +299,11 @@ namespace softface
       return factorizations;
     }
 
-    SOFTFACE_REGISTER_MODEL(LinearFEM,
-                            "linear fem",
-                            "Linear elasticity on P1 tetrahedra (seed 2.1), "
-                            "solved by GMRES/Jacobi, CG/AMG or a reused "
-                            "direct factorisation.")
+    SOFTFACE_REGISTER_MODEL(
+      LinearFEM,
+      "linear fem",
+      "Linear elasticity on P1 tetrahedra (Mollemans et al. 2007, Sec. 2.1), "
+      "solved by GMRES/Jacobi, CG/AMG or a reused "
+      "direct factorisation.")
   } // namespace Models
 } // namespace softface

@@ -1,6 +1,6 @@
-// The mass spring model (models, seed 2.2): a spring per edge with Gelder's
-// constants, nonlinear in the positions, and its static equilibrium by local
-// steepest descent with the seed's dynamic cut-out.
+// The mass spring model (models; Mollemans et al. 2007, Sec. 2.2): a spring per
+// edge with Gelder's constants, nonlinear in the positions, and its static
+// equilibrium by local steepest descent with the paper's dynamic cut-out.
 
 #include <deal.II/base/mpi.h>
 
@@ -29,27 +29,30 @@ namespace softface
     void
     MassSpring::declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry("Stop threshold",
-                        "0.001",
-                        Patterns::Double(0.),
-                        "A point moves while its step |F| / sum(k) of its "
-                        "springs exceeds this (mm): the seed's force threshold "
-                        "of the dynamic cut-out, independent of E.");
+      prm.declare_entry(
+        "Stop threshold",
+        "0.001",
+        Patterns::Double(0.),
+        "A point moves while its step |F| / sum(k) of its "
+        "springs exceeds this (mm): the force threshold "
+        "of the dynamic cut-out (Mollemans et al. 2007, Sec. 2.2), "
+        "independent of E.");
       prm.declare_entry("Maximum step fraction",
                         "0.25",
                         Patterns::Double(0., 0.5),
                         "A point never moves by more than this fraction of its "
                         "shortest spring in one update, so that no spring "
                         "flips.");
-      prm.declare_entry("Prevent inversion",
-                        "false",
-                        Patterns::Bool(),
-                        "true halves a step that would turn a tetrahedron "
-                        "inside out (up to 8 times, else skips it) and makes "
-                        "any inversion an error. false is the seed's model: "
-                        "springs may flip over where the equilibrium of the "
-                        "springs asks for it; the inverted tetrahedra are "
-                        "counted and reported with a warning.");
+      prm.declare_entry(
+        "Prevent inversion",
+        "false",
+        Patterns::Bool(),
+        "true halves a step that would turn a tetrahedron "
+        "inside out (up to 8 times, else skips it) and makes "
+        "any inversion an error. false is the model of Mollemans et al. 2007: "
+        "springs may flip over where the equilibrium of the "
+        "springs asks for it; the inverted tetrahedra are "
+        "counted and reported with a warning.");
       prm.declare_entry("Warm start",
                         "true",
                         Patterns::Bool(),
@@ -116,8 +119,8 @@ namespace softface
       const auto        &row_start = mesh->row_start;
       const auto        &neighbour = mesh->neighbour;
 
-      // seed eq. 5: every edge once, with the volume of the tetrahedra that
-      // share it (summed at the edge's position (j, k), j < k). With
+      // The paper's eq. 5: every edge once, with the volume of the tetrahedra
+      // that share it (summed at the edge's position (j, k), j < k). With
       // heterogeneous tissue each cell's volume is weighted by its modulus
       // relative to Scene::material's (Gelder's formula per cell).
       const double        E = scene->material.youngs_modulus();
@@ -169,13 +172,13 @@ namespace softface
                     std::make_unique<BlockColouring>(mesh->n_points(),
                                                      mesh->row_start,
                                                      mesh->neighbour);
-      // On several MPI ranks each moves the points of its blocks (issue 20).
+      // On several MPI ranks each moves the points of its blocks.
       exchange = point_exchange(*scene, *colouring, *mesh);
     }
 
     /**
      * The mass spring model's part of its sweeps (PointSweeps): a point's
-     * local steepest-descent step under its springs (seed eq. 4) and its
+     * local steepest-descent step under its springs (the paper's eq. 4) and its
      * constraint, halved where it would invert a tetrahedron; a load step
      * ends where the dynamic cut-out leaves no point to move.
      */
@@ -213,7 +216,7 @@ namespace softface
             return true;
           }
         // Springs alone do not keep a tetrahedron from turning inside out
-        // (seed 2.2, disadvantage 1): a step that would invert one is
+        // (paper, Sec. 2.2, disadvantage 1): a step that would invert one is
         // halved until it does not, or not taken.
         const Point<3> old      = x[j];
         unsigned int   halvings = 0;
@@ -260,7 +263,7 @@ namespace softface
                   const SweepTally  &tally,
                   const bool         stop_proposed) const;
 
-      /// The force on point j (seed eq. 4) and its shortest spring.
+      /// The force on point j (the paper's eq. 4) and its shortest spring.
       Tensor<1, 3>
       force(const unsigned int j, double &shortest) const
       {
@@ -603,11 +606,12 @@ namespace softface
       // works where the motion is, which the first partition, by free
       // points, need not split evenly (a colour waits for its busiest
       // rank), and that region changes from step to step (on the generated
-      // cube the ranks made 51:49 of the first step's updates and 2:1 of
-      // the tenth's); the last step's work is the best guess at the next's.
-      // Any range of blocks makes the serial updates (PointExchange): the
-      // answer does not change. PointExchange adds each block's free
-      // points, so that blocks the step did not reach still spread.
+      // cube the ranks' shares of the updates go from 51:49 in the first
+      // step to 2:1 in the tenth); the last step's work is the best guess at
+      // the next's. Any range of blocks makes the serial updates
+      // (PointExchange): the answer does not change. PointExchange adds each
+      // block's free points, so that blocks the step did not reach still
+      // spread.
       const auto           timed      = phase("rebalance");
       std::vector<double> &block_work = sweeps.block_updates();
       Utilities::MPI::sum(block_work, communicator, block_work);
@@ -709,7 +713,8 @@ namespace softface
           r.max_step <= stop_threshold)
         warn("reached equilibrium with " +
              std::to_string(r.inverted_tetrahedra) +
-             " inverted tetrahedra (springs flipped over, seed 2.2); the "
+             " inverted tetrahedra (springs flipped over, Mollemans et al. "
+             "2007, Sec. 2.2); the "
              "answer is not physical there.");
       else if (r.inverted_tetrahedra > 0 || r.max_step > stop_threshold)
         {
@@ -721,7 +726,8 @@ namespace softface
             << r.blocked_updates
             << " updates held back because they would have inverted a "
                "tetrahedron. Springs alone cannot keep tetrahedra from "
-               "collapsing under this motion (seed 2.2); refine the mesh or "
+               "collapsing under this motion (Mollemans et al. 2007, Sec. "
+               "2.2); refine the mesh or "
                "use another model.";
           throw Error(m.str());
         }
@@ -739,10 +745,11 @@ namespace softface
       return last_report;
     }
 
-    SOFTFACE_REGISTER_MODEL(MassSpring,
-                            "mass spring",
-                            "Tetrahedral mass spring model (seed 2.2): a "
-                            "spring per edge with Gelder's constants, local "
-                            "steepest descent with the dynamic cut-out.")
+    SOFTFACE_REGISTER_MODEL(
+      MassSpring,
+      "mass spring",
+      "Tetrahedral mass spring model (Mollemans et al. 2007, Sec. 2.2): a "
+      "spring per edge with Gelder's constants, local "
+      "steepest descent with the dynamic cut-out.")
   } // namespace Models
 } // namespace softface

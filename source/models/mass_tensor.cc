@@ -1,7 +1,7 @@
-// The mass tensor model (models, seed 2.3): Cotin's tensors from the shared
-// P1 stiffness kernel, the seed's local static update with its local dynamic
-// stop criterion and active set, and the precision against the converged
-// answer of the same equations.
+// The mass tensor model (models; Mollemans et al. 2007, Sec. 2.3): Cotin's
+// tensors from the shared P1 stiffness kernel, the paper's local static update
+// with its local dynamic stop criterion and active set, and the precision
+// against the converged answer of the same equations.
 
 #include <deal.II/base/array_view.h>
 #include <deal.II/base/mpi.h>
@@ -64,40 +64,44 @@ namespace softface
     void
     MassTensor::declare_parameters(ParameterHandler &prm)
     {
-      prm.declare_entry("Ordering",
-                        "gauss-seidel",
-                        Patterns::Selection("gauss-seidel|jacobi"),
-                        "Order of the local updates (seed eq. 12): "
-                        "'gauss-seidel' uses every new value at once, "
-                        "'jacobi' only values from the previous sweep.");
+      prm.declare_entry(
+        "Ordering",
+        "gauss-seidel",
+        Patterns::Selection("gauss-seidel|jacobi"),
+        "Order of the local updates (Mollemans et al. 2007, eq. 12): "
+        "'gauss-seidel' uses every new value at once, "
+        "'jacobi' only values from the previous sweep.");
       prm.declare_entry(
         "Relaxation factor",
         "auto",
         AutoOrFactor(),
-        "Each update moves a point by this factor times the change eq. 12 "
-        "asks for. 'auto': 1.8 with Gauss-Seidel order (over-relaxation, "
-        "SOR: on a 106k-tetrahedron cube with traction-free faces and a "
-        "rotated off-centre bone it needed 10 times fewer point updates than "
-        "the seed's 1 for the same distance to the answer; SOR converges "
-        "for any factor below 2 on these equations), 1 with Jacobi order. "
-        "Else a number from 0.5 to 2: 1 is the seed's scheme; below 1 it "
+        "Each update moves a point by this factor times the change eq. 12 of "
+        "Mollemans et al. 2007 asks for. 'auto': 1.8 with Gauss-Seidel order "
+        "(over-relaxation, SOR: on a 106k-tetrahedron cube with "
+        "traction-free faces and a rotated off-centre bone it needs 10 times "
+        "fewer point updates than the paper's factor 1 for the same distance "
+        "to the answer; SOR converges for any factor below 2 on these "
+        "equations), 1 with Jacobi order. "
+        "Else a number from 0.5 to 2: 1 is the paper's scheme; below 1 it "
         "damps Jacobi order (which diverges undamped on many meshes; the "
         "stop criterion then looks at the whole change, not the damped "
-        "step); below 0.5 the updates shrink so slowly that the stop "
-        "criterion ended far from the answer (0.1: 0.54 mm on the 35k cube; "
-        "0.01 stopped at once).");
-      prm.declare_entry("Stop gradient threshold",
-                        "0.001",
-                        Patterns::Double(0.),
-                        "A point stops when the mean length of its last "
-                        "'Gradient window' updates falls below this (mm per "
-                        "sweep; seed 2.3.3 and Table 1). 0 runs to full "
-                        "convergence ('Convergence tolerance').");
+        "step); below 0.5 the updates would shrink so slowly that the stop "
+        "criterion would end far from the answer (0.1: 0.54 mm on the 35k "
+        "cube; 0.01: at once).");
+      prm.declare_entry(
+        "Stop gradient threshold",
+        "0.001",
+        Patterns::Double(0.),
+        "A point stops when the mean length of its last "
+        "'Gradient window' updates falls below this (mm per "
+        "sweep; Mollemans et al. 2007, Sec. 2.3.3 and Table 1). 0 runs to full "
+        "convergence ('Convergence tolerance').");
       prm.declare_entry(
         "Stop distance",
         "0.1",
         Patterns::Double(0.),
-        "The seed's criterion alone can stop far from the answer when "
+        "The stop criterion of Mollemans et al. 2007 alone can stop far from "
+        "the answer when "
         "the sweeps converge slowly (0.40 mm on a 106k cube with "
         "traction-free faces and a rotated off-centre bone: each sweep "
         "changes little long before the answer is near). So when it "
@@ -110,8 +114,8 @@ namespace softface
         "is lowered to what the rate asks for and every free point sweeps "
         "on. A stop proposed before 4 'Gradient window's of sweeps is "
         "postponed until the rate can be measured. Where the steps do not "
-        "shrink (rho >= 1) the seed's criterion decides, with a warning. "
-        "0: the seed's "
+        "shrink (rho >= 1) the paper's criterion decides, with a warning. "
+        "0: the paper's "
         "criterion alone.");
       prm.declare_entry("Gradient window",
                         "10",
@@ -136,17 +140,18 @@ namespace softface
                         Patterns::Double(0.),
                         "Gradient (mm per sweep) below which a point counts "
                         "as converged when the stop threshold is 0.");
-      prm.declare_entry("Report precision",
-                        "false",
-                        Patterns::Bool(),
-                        "Also compute the fully converged answer of the same "
-                        "equations (by the sparse direct solver) and report "
-                        "the largest and mean distance of a free point to it "
-                        "(the seed's minimal and mean precision, Table 1). "
-                        "When Models/Models also lists linear fem (which "
-                        "then runs before the mass tensor model, wherever it "
-                        "is listed), its answer is that answer, to its "
-                        "solver's tolerance, and is used instead.");
+      prm.declare_entry(
+        "Report precision",
+        "false",
+        Patterns::Bool(),
+        "Also compute the fully converged answer of the same "
+        "equations (by the sparse direct solver) and report "
+        "the largest and mean distance of a free point to it "
+        "(the minimal and mean precision of Mollemans et al. 2007, Table 1). "
+        "When Models/Models also lists linear fem (which "
+        "then runs before the mass tensor model, wherever it "
+        "is listed), its answer is that answer, to its "
+        "solver's tolerance, and is used instead.");
       prm.declare_entry(
         "Precision history file",
         "",
@@ -154,8 +159,9 @@ namespace softface
         "If set, solve the converged answer first and write, after every "
         "sweep, the largest and mean distance of a free point to it and the "
         "largest gradient (CSV: sweep,precision_max,precision_mean,"
-        "max_gradient,active_points): the seed's precision study "
-        "(2.3.5, Fig. 1). Relative to the working directory. Costs one pass "
+        "max_gradient,active_points): the precision study of "
+        "Mollemans et al. 2007 (Sec. 2.3.5, Fig. 1). Relative to the working "
+        "directory. Costs one pass "
         "over the points per sweep.");
     }
 
@@ -265,7 +271,7 @@ namespace softface
                       std::make_unique<BlockColouring>(n);
       }
 
-      // On several MPI ranks each updates the points it owns (issue 20),
+      // On several MPI ranks each updates the points it owns,
       // and holds their rows only.
       exchange.reset();
       exchange = point_exchange(*scene, *colouring, *mesh);
@@ -547,10 +553,11 @@ namespace softface
     }
 
     /**
-     * The mass tensor model's part of its sweeps (PointSweeps): seed eq.
-     * 12's local update, relaxed, with each point's gradient over its last
-     * W updates; after each sweep the seed's stop (2.3.3), checked by the
-     * distance left ('Stop distance'), and a row of the precision history.
+     * The mass tensor model's part of its sweeps (PointSweeps): the
+     * paper's local update (eq. 12), relaxed, with each point's gradient over
+     * its last W updates; after each sweep the paper's stop (Sec. 2.3.3),
+     * checked by the distance left ('Stop distance'), and a row of the
+     * precision history.
      */
     class MassTensor::LocalUpdates : public PointLocalUpdates
     {
@@ -568,7 +575,7 @@ namespace softface
              SweepTally                &tally,
              std::vector<unsigned int> &queued)
       {
-        // seed eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
+        // The paper's eq. 12: u_j = K_jj^-1 (f_j - sum_k K_jk u_k)
         double f0 = 0., f1 = 0., f2 = 0.;
         if (load != nullptr)
           {
@@ -614,11 +621,11 @@ namespace softface
         else
           jacobi_values[j] = {{v[0], v[1], v[2]}};
 
-        // seed 2.3.3: the gradient over the point's last W updates, of the
-        // change eq. 12 asks for (the step divided by the factor): a damped
+        // Paper, Sec. 2.3.3: the gradient over the point's last W updates, of
+        // the change eq. 12 asks for (the step divided by the factor): a damped
         // update (factor below 1) would otherwise stop at once far from the
         // answer (factor 0.01), and an over-relaxed one would meet a
-        // threshold that means less than the seed's (Table 1).
+        // threshold that means less than the paper's (Table 1).
         const double change = step / wj;
         double      &slot =
           steps[static_cast<std::size_t>(j) * W + n_updates[j] % W];
@@ -662,7 +669,7 @@ namespace softface
       double
       largest_gradient() const;
 
-      /// Is a stop that the seed's criterion proposes checked?
+      /// Is a stop that the paper's criterion proposes checked?
       const bool        verify;
       StopDistanceCheck stop_check;
 
@@ -805,7 +812,7 @@ namespace softface
           (model.exchange && !model.precision_history_file.empty()))
         record_history(sweeps);
       stop_check.record(tally.largest_step);
-      // The seed's criterion (2.3.3) proposes the stop.
+      // The paper's criterion (Sec. 2.3.3) proposes the stop.
       if (!stop_proposed)
         return SweepDecision::go_on;
       if (!verify || stop_check.accept(stop_threshold))
@@ -1099,8 +1106,9 @@ namespace softface
 
     SOFTFACE_REGISTER_MODEL(MassTensor,
                             "mass tensor",
-                            "Cotin's mass tensor model with the seed's static "
-                            "local update (2.3.2) and local dynamic stop "
-                            "criterion with active set (2.3.3).")
+                            "Cotin's mass tensor model with the static local "
+                            "update (Mollemans et al. 2007, Sec. 2.3.2) and "
+                            "local dynamic stop criterion with active set "
+                            "(Sec. 2.3.3).")
   } // namespace Models
 } // namespace softface

@@ -35,7 +35,8 @@ namespace softface
       prm.declare_entry("Material law",
                         "neo-hooke",
                         Patterns::Selection(MaterialLaw::selection()),
-                        "'st venant-kirchhoff' (the seed's, and CalculiX's "
+                        "'st venant-kirchhoff' (the law of Mollemans et al. "
+                        "2007, and CalculiX's "
                         "*ELASTIC with NLGEOM; softens under strong "
                         "compression), compressible 'neo-hooke' (stiffens "
                         "under compression), or 'linear': linear FEM's "
@@ -160,8 +161,7 @@ namespace softface
           const std::string why = why_not_on_ranks();
           add_detail("MPI ranks",
                      "1 (" +
-                       (why.empty() ? "not distributed yet: whole on every "
-                                      "rank" :
+                       (why.empty() ? "not distributed: whole on every rank" :
                                       why) +
                        ")");
         }

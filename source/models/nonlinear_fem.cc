@@ -1,6 +1,7 @@
-// The nonlinear FEM model (models, seed 2.1) on P1 tetrahedra and the shared
-// layout: its discretisation (cell geometry, closed-form forces and tangent
-// added straight into the matrix); the Newton solve is NonlinearElasticity's.
+// The nonlinear FEM model (models; Mollemans et al. 2007, Sec. 2.1) on P1
+// tetrahedra and the shared layout: its discretisation (cell geometry,
+// closed-form forces and tangent added straight into the matrix); the Newton
+// solve is NonlinearElasticity's.
 
 #include <softface/core/point_mesh.h>
 #include <softface/core/release.h>

@@ -1,5 +1,5 @@
 // Point values of the mass tensor and mass spring models on several MPI
-// ranks (issue 20): who updates which point, and the ghost exchange after
+// ranks: who updates which point, and the ghost exchange after
 // each colour of a sweep. See models/point_exchange.h.
 
 #include <deal.II/base/index_set.h>

@@ -46,7 +46,7 @@ namespace softface
       return true;
     // The largest change does not shrink (constraints switching, round-off
     // at a tiny threshold), or the threshold cannot go lower: no rate to
-    // trust, the seed's criterion decides.
+    // trust, the criterion of Mollemans et al. 2007 decides.
     if (contraction_rate >= 1. || threshold <= convergence_tolerance ||
         n_verifications > max_stop_checks)
       {

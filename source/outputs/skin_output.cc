@@ -1,6 +1,7 @@
-// The predicted skins of a run (simulator, seed 3.4-3.5): the Skin
-// parameters, step A of the chosen mappings once per scene, step B for every
-// model, the skins as PLY/VTP and the distances to a post-operative skin.
+// The predicted skins of a run (simulator; Mollemans et al. 2007,
+// Sec. 3.4-3.5): the Skin parameters, step A of the chosen mappings once per
+// scene, step B for every model, the skins as PLY/VTP and the distances to a
+// post-operative skin.
 
 #include <deal.II/base/timer.h>
 #include <deal.II/base/utilities.h>
@@ -74,7 +75,8 @@ namespace softface
       "auto",
       Patterns::Anything(),
       "The dense skin surface (.ply or .vtp, mm, in the mesh's frame) that "
-      "every model's prediction is mapped onto (seed 3.4). 'auto': the skin "
+      "every model's prediction is mapped onto (Mollemans et al. 2007, Sec. "
+      "3.4). 'auto': the skin "
       "the patient pipeline made for a patient scene, none for other scenes; "
       "'none': no skin.");
     prm.declare_entry("Post-operative skin",
@@ -112,17 +114,18 @@ namespace softface
                       "3",
                       Patterns::Double(0.),
                       "Inverse distance weighting: known points within this "
-                      "distance (mm; the seed's x = 3) ...");
+                      "distance (mm; x = 3 in Mollemans et al. 2007) ...");
     prm.declare_entry("Connectivity rings",
                       "5",
                       Patterns::Integer(1, 1000),
                       "... and fewer than this many edges away on the skin "
-                      "(the seed's y = 5).");
+                      "(y = 5 in Mollemans et al. 2007).");
     prm.declare_entry("Correspondences",
                       "true",
                       Patterns::Bool(),
                       "With a post-operative skin: the distances between "
-                      "corresponding points as well (seed 3.5.1: a TPS-RPM "
+                      "corresponding points as well (Mollemans et al. 2007, "
+                      "Sec. 3.5.1: a TPS-RPM "
                       "variant matches every measured point of a predicted "
                       "skin to the post-operative skin's surface). false: "
                       "closest-point distances only.");

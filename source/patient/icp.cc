@@ -1,9 +1,9 @@
 // Rigid motions of bone parts and their recovery by iterative closest
-// points (patient, seed 3.2): the planning of a patient is the motion that
-// carries each bone part of the pre-operative skull onto the post-operative
-// one. Closest points come from a nanoflann k-d tree over the fixed cloud,
-// the best rigid fit of the pairs from Eigen's SVD (Arun, Huang and Blostein
-// 1987, with the reflection fixed).
+// points (patient; Mollemans et al. 2007, Sec. 3.2): the planning of a patient
+// is the motion that carries each bone part of the pre-operative skull onto the
+// post-operative one. Closest points come from a nanoflann k-d tree over the
+// fixed cloud, the best rigid fit of the pairs from Eigen's SVD (Arun, Huang
+// and Blostein 1987, with the reflection fixed).
 
 #include <softface/core/error.h>
 #include <softface/patient/icp.h>

@@ -1,7 +1,7 @@
-// Osteotomies (patient, seed 3.2-3.3): named cut surfaces split the segmented
-// skull into bone parts, and each part becomes the bone segment whose seed
-// point lies in it; the join points of the soft-tissue mesh then follow from
-// the part each bone-contact face touches.
+// Osteotomies (patient; Mollemans et al. 2007, Sec. 3.2-3.3): named cut
+// surfaces split the segmented skull into bone parts, and each part becomes the
+// bone segment whose seed point lies in it; the join points of the soft-tissue
+// mesh then follow from the part each bone-contact face touches.
 
 #include <softface/core/error.h>
 #include <softface/patient/osteotomy.h>

@@ -1,8 +1,8 @@
-// The synthetic head-and-neck CT (patient, seed 3.1): a parametric anatomy of
-// implicit surfaces, its truth labels, and its acquisition as a CT volume in
-// Hounsfield units (point spread, noise, optional metal streaks). Phantom
-// patients take the same path through segmentation and meshing as real
-// scans.
+// The synthetic head-and-neck CT (patient; Mollemans et al. 2007, Sec. 3.1): a
+// parametric anatomy of implicit surfaces, its truth labels, and its
+// acquisition as a CT volume in Hounsfield units (point spread, noise, optional
+// metal streaks). Phantom patients take the same path through segmentation and
+// meshing as real scans.
 
 #include <softface/core/error.h>
 #include <softface/patient/phantom.h>

@@ -1,6 +1,6 @@
-// The patient pipeline (patient, seed 3.1-3.3): the stages
-// CT (phantom or file) -> segmentation and surfaces -> bone parts and the
-// tetrahedral mesh, each leaving files the next reads, skipped when its
+// The patient pipeline (patient; Mollemans et al. 2007, Sec. 3.1-3.3): the
+// stages CT (phantom or file) -> segmentation and surfaces -> bone parts and
+// the tetrahedral mesh, each leaving files the next reads, skipped when its
 // inputs have not changed. Scene calls it for 'Mesh source = patient'; the
 // subcommands phantom, segment and mesh stop after their stage. At the end,
 // the subcommand register (Mollemans et al. 2007, 3.5.1): a post-operative
@@ -471,8 +471,8 @@ namespace softface
               inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
             for (const auto &v : cut.polyline)
               inputs << ' ' << v[0] << ' ' << v[1] << ' ' << v[2];
-            // Only a margin of the cut's own, so that the stamps of scenes
-            // made before cuts had one still hold.
+            // Only a margin of the cut's own, so that a cut without one
+            // leaves the stamp as it is.
             if (cut.detached_margin != prm.osteotomy.detached_margin)
               inputs << " margin " << cut.detached_margin;
             inputs << '\n';

@@ -1,8 +1,9 @@
-// Planning from a post-operative skull (patient, seed 3.2): the surface of
-// every bone part of the osteotomy, registered to the post-operative skull
-// by ICP from a rough plan, and the recovered motions written as a Planning
-// section that a scene includes. For phantom patients, whose post-operative
-// CT does not exist, a post-operative skull is made by moving each part.
+// Planning from a post-operative skull (patient; Mollemans et al. 2007,
+// Sec. 3.2): the surface of every bone part of the osteotomy, registered to the
+// post-operative skull by ICP from a rough plan, and the recovered motions
+// written as a Planning section that a scene includes. For phantom patients,
+// whose post-operative CT does not exist, a post-operative skull is made by
+// moving each part.
 
 #include <softface/core/error.h>
 #include <softface/patient/osteotomy.h>

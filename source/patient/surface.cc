@@ -1,5 +1,6 @@
-// Dense surfaces of a segmented head (patient, seed 3.1): iso-surfaces of the
-// smoothed CT by VTK's flying edges (the skin, the skull), and PLY/VTP files.
+// Dense surfaces of a segmented head (patient; Mollemans et al. 2007,
+// Sec. 3.1): iso-surfaces of the smoothed CT by VTK's flying edges (the skin,
+// the skull), and PLY/VTP files.
 
 #include <softface/core/error.h>
 #include <softface/patient/surface.h>

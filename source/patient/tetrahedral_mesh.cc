@@ -1,9 +1,9 @@
-// The tetrahedral soft-tissue mesh of a patient (patient, seed 3.1: Amira in
-// the seed): CGAL Mesh_3 from the labelled image inside the region of
-// interest, sliver perturbation and exudation, boundary faces classified as
-// skin, cut of the region or contact with a bone segment, quality figures,
-// and VTU/gmsh files that Scene reads back. This is softface's only
-// translation unit with CGAL Mesh_3 (about a minute and 3 GB to compile).
+// The tetrahedral soft-tissue mesh of a patient (patient; Mollemans et al.
+// 2007, Sec. 3.1, made it with Amira): CGAL Mesh_3 from the labelled image
+// inside the region of interest, sliver perturbation and exudation, boundary
+// faces classified as skin, cut of the region or contact with a bone segment,
+// quality figures, and VTU/gmsh files that Scene reads back. This is softface's
+// only translation unit with CGAL Mesh_3 (about a minute and 3 GB to compile).
 
 #include <softface/core/error.h>
 #include <softface/patient/osteotomy.h>

@@ -153,11 +153,11 @@ namespace softface
         const std::string post_operative = prm.get("Post-operative skin");
         prm.leave_subsection();
         if (SkinParameters::names_truth_scene(post_operative))
-          throw Error(
-            filename + ": Skin/Post-operative skin: a truth scene ('" +
-            post_operative + "') runs on one MPI rank only for now, not on " +
-            std::to_string(n_ranks) +
-            "; run it alone first and give its skin_<model>.ply.");
+          throw Error(filename +
+                      ": Skin/Post-operative skin: a truth scene ('" +
+                      post_operative + "') runs on one MPI rank only, not on " +
+                      std::to_string(n_ranks) +
+                      "; run it alone first and give its skin_<model>.ply.");
       }
 
     state->input_directory =

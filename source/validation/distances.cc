@@ -1,6 +1,6 @@
-// Distances between skin surfaces (validation, seed 3.5.1): signed
-// closest-point distances, masks and the statistics of a distance map (mean,
-// variance, maximum, 50/90/95 % percentiles).
+// Distances between skin surfaces (validation; Mollemans et al. 2007,
+// Sec. 3.5.1): signed closest-point distances, masks and the statistics of a
+// distance map (mean, variance, maximum, 50/90/95 % percentiles).
 
 #include <boost/algorithm/string.hpp>
 

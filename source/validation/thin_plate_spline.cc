@@ -1,4 +1,5 @@
-// The thin-plate spline of TPS-RPM (validation, seed 3.5.1). Eigen only.
+// The thin-plate spline of TPS-RPM (validation; Mollemans et al. 2007,
+// Sec. 3.5.1). Eigen only.
 
 #include <softface/core/error.h>
 #include <softface/validation/thin_plate_spline.h>
@@ -15,9 +16,9 @@ namespace softface
       /**
        * An orthogonal Q whose first columns span those of @p a (n x m, n >=
        * m or not), by Householder reflections: its last n - m columns are an
-       * orthonormal basis of the vectors orthogonal to them. (Our own: Eigen
-       * 3.4's HouseholderQR draws a false -Wmaybe-uninitialized from GCC
-       * 12.)
+       * orthonormal basis of the vectors orthogonal to them. (Written here, not
+       * Eigen's: 3.4's HouseholderQR draws a false -Wmaybe-uninitialized from
+       * GCC 12.)
        */
       Eigen::MatrixXd
       orthogonal_complement(Eigen::MatrixXd a)

@@ -1,7 +1,7 @@
 // Corresponding points of a predicted skin on the post-operative skin's
-// surface by a TPS-RPM variant (validation, seed 3.5.1): a thin-plate spline
-// annealed towards the target's closest points, with an outlier class.
-// Eigen, deal.II's R-tree (TriangleSearch) and threads.
+// surface by a TPS-RPM variant (validation; Mollemans et al. 2007, Sec. 3.5.1):
+// a thin-plate spline annealed towards the target's closest points, with an
+// outlier class. Eigen, deal.II's R-tree (TriangleSearch) and threads.
 
 #include <softface/core/error.h>
 #include <softface/core/threads.h>

@@ -59,9 +59,9 @@ namespace softface
      * space are then neighbours in memory: the degrees of freedom (numbered by
      * deal.II in cell order), the matrix rows, the mass tensor model's point
      * blocks. A gmsh mesh comes in the order its mesher made it, which
-     * scattered each cell's vertices over the whole vertex array and made
-     * assembly six times slower than on a generated grid of the same size
-     * (issue 16). Every mesh softface's own readers read goes through this
+     * scatters each cell's vertices over the whole vertex array and makes
+     * assembly six times slower than on a generated grid of the same size.
+     * Every mesh softface's own readers read goes through this
      * (deal.II's serialised .vtu keeps its order); the generated cube is in
      * grid order already.
      *

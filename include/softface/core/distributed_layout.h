@@ -68,7 +68,7 @@ namespace softface
   };
 
   /**
-   * The scene's P1 layout on the ranks of an MPI communicator (issue 20).
+   * The scene's P1 layout on the ranks of an MPI communicator.
    * Every rank holds the scene's segments, join points and effects, and its
    * mesh too unless it is a member of a group whose run needs no serial
    * mesh (Scene::has_cells()); the cells are partitioned among

@@ -32,10 +32,10 @@ namespace softface
     /// Young's modulus in N/mm^2.
     double
     youngs_modulus() const;
-    /// seed eq. 6
+    /// Mollemans et al. 2007, eq. 6
     double
     lambda() const;
-    /// seed eq. 7
+    /// The paper's eq. 7
     double
     mu() const;
     /// Both Lame coefficients.

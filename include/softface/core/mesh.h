@@ -14,9 +14,9 @@ namespace softface
   using namespace dealii;
 
   /**
-   * Where the tetrahedral meshes come from: the generated cube of the seed's
-   * benchmark (section 2.3.6, Fig. 2) or a file. Every mesh passes
-   * Mesh::check_cells() before anything is computed on it.
+   * Where the tetrahedral meshes come from: the generated cube of the
+   * benchmark of Mollemans et al. 2007 (Sec. 2.3.6, Fig. 2) or a file. Every
+   * mesh passes Mesh::check_cells() before anything is computed on it.
    */
   namespace Mesh
   {
@@ -37,7 +37,7 @@ namespace softface
 
     /**
      * The cube [0, L]^3 with a centred inner cube of edge s (the region that
-     * the seed moves 6 mm upwards). The mesh is a tensor grid whose lines
+     * the paper moves 6 mm upwards). The mesh is a tensor grid whose lines
      * include the inner cube's faces, each hexahedron split into six
      * tetrahedra along its main diagonal (Kuhn), so the tetrahedra conform to
      * the inner region and to each other. Cells inside the inner cube get

@@ -9,7 +9,7 @@ namespace softface
 {
   /**
    * Run @p work on rank 0 of @p communicator alone, for what one rank does
-   * for all (issue 20: the patient pipeline, which writes its stages; the
+   * for all (the patient pipeline, which writes its stages; the
    * skin mapping and its files). A softface::Error it throws is thrown on
    * every rank, with rank 0's message, so that the ranks fail alike, as a
    * serial run would, and none is left waiting in a collective. Anything

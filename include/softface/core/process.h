@@ -13,7 +13,7 @@ namespace softface
      * Call before MPI is initialised. A serial run (no mpirun, srun or other
      * launcher in the environment) asks Open MPI not to start its helper
      * process (orted): Trilinos needs MPI initialised, but a run on one rank
-     * gained nothing from the helper and paid its start-up (issue 16). A
+     * gained nothing from the helper and paid its start-up. A
      * setting of OMPI_MCA_ess_singleton_isolated in the environment wins.
      * An isolated process gets a session directory of its own
      * (`$TMPDIR/softface-mpi.<pid>`, removed at exit), so that concurrent

@@ -9,8 +9,9 @@ namespace softface
   using namespace dealii;
 
   /**
-   * The planned motion of a bone segment (seed 3.3): x -> R (x - c) + c + t,
-   * with R the rotation by an angle about an axis through the centre c.
+   * The planned motion of a bone segment (Mollemans et al. 2007, Sec. 3.3):
+   * x -> R (x - c) + c + t, with R the rotation by an angle about an axis
+   * through the centre c.
    */
   class RigidMotion
   {

@@ -28,9 +28,10 @@ namespace softface
   using namespace dealii;
 
   /**
-   * A bone segment (seed 3.3): the mesh vertices that touch it are its join
-   * points. They are the vertices of cells with one of the material ids and
-   * the vertices of boundary faces with one of the boundary ids.
+   * A bone segment (Mollemans et al. 2007, Sec. 3.3): the mesh vertices that
+   * touch it are its join points. They are the vertices of cells with one of
+   * the material ids and the vertices of boundary faces with one of the
+   * boundary ids.
    */
   struct BoneSegment
   {
@@ -58,7 +59,8 @@ namespace softface
   };
 
   /**
-   * The bone segments that claim the vertices of @p cell (seed 3.3), added to
+   * The bone segments that claim the vertices of @p cell (paper, Sec. 3.3),
+   * added to
    * @p claims by the cell's vertex indices: a segment whose material ids
    * hold the cell's claims its four vertices, one whose boundary ids hold a
    * boundary face's claims that face's three, once per cell or face. A
@@ -249,8 +251,8 @@ namespace softface
     /**
      * Whether this rank holds the scene's cells (its triangulation and
      * DoFHandler). It does not on a member of a group of MPI ranks
-     * (Models/Mesh group size) whose run needs no serial mesh on every rank
-     * (issue 20): such a scene holds what rank 0 sent it
+     * (Models/Mesh group size) whose run needs no serial mesh on every rank:
+     * such a scene holds what rank 0 sent it
      * (share_without_cells()), the arrays per vertex and per DoF (positions,
      * DoFs, segments, join flags, the body force), the segments and the
      * effects' rules, but no cell, nor the effects' arrays per cell.

@@ -17,11 +17,11 @@ namespace softface
   using namespace dealii;
 
   /**
-   * Linear systems whose join DoFs are prescribed (seed 3.3), as the FEM
-   * models and the mass tensor model's converged answer build them: the
-   * sparsity of the shared layout, cell matrices added row by row, and the
-   * symmetric elimination of the join DoFs, which keeps an SPD matrix SPD
-   * and independent of where the join points move.
+   * Linear systems whose join DoFs are prescribed (Mollemans et al. 2007,
+   * Sec. 3.3), as the FEM models and the mass tensor model's converged answer
+   * build them: the sparsity of the shared layout, cell matrices added row by
+   * row, and the symmetric elimination of the join DoFs, which keeps an SPD
+   * matrix SPD and independent of where the join points move.
    */
   namespace ConstrainedSystem
   {

@@ -18,13 +18,14 @@ namespace softface
   using namespace dealii;
 
   /**
-   * Linear elasticity on several MPI ranks (issue 20, a first step): the
-   * linear FEM model's equations (seed eq. 8, each cell with its tissue's
-   * law, the scene's body force) on a DistributedLayout, assembled on each
-   * rank's rows from the cells at them (OwnedRowsMatrix), the join DoFs
+   * Linear elasticity on several MPI ranks: the
+   * linear FEM model's equations (Mollemans et al. 2007, eq. 8, each cell with
+   * its tissue's law, the scene's body force) on a DistributedLayout, assembled
+   * on each rank's rows from the cells at them (OwnedRowsMatrix), the join DoFs
    * eliminated as on one rank, and solved by CG with ML given the six
    * rigid-body modes (LinearSolver::amg_parameters(), the serial model's
-   * ML). Vertex constraints (sliding contact, lips) are not distributed yet.
+   * ML). Vertex constraints (sliding contact, lips) are not available on
+   * several ranks.
    */
   namespace DistributedElasticity
   {

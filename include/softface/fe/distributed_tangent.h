@@ -21,7 +21,7 @@ namespace softface
 
   /**
    * The Newton tangent and nodal forces of a nonlinear FEM model on several
-   * MPI ranks (issue 20), for any element on a layout's fully distributed
+   * MPI ranks, for any element on a layout's fully distributed
    * triangulation (the P1 nonlinear FEM model's, the quadratic reference's).
    * The model evaluates the cells at this rank's DoFs (add_cell()); the
    * tangent stays a Trilinos matrix on the ranks, the forces come back as

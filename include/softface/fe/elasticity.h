@@ -29,15 +29,15 @@ namespace softface
    *  - P1 in closed form: on a linear tetrahedron F = I + sum_a u_a (x)
    *    grad N_a is constant, so f_a = V P(F) grad N_a and the tangent
    *    K_ab = V grad N_a . A . grad N_b need no quadrature. The linear FEM
-   *    stiffness (seed eqs. 6-8) is the linear law's tangent, and the mass
-   *    tensor model reads its 3x3 blocks (eqs. 9-10);
+   *    stiffness (Mollemans et al. 2007, eqs. 6-8) is the linear law's
+   *    tangent, and the mass tensor model reads its 3x3 blocks (eqs. 9-10);
    *  - by quadrature on any vector-valued element (the quadratic reference);
    *    on P1 it reproduces the closed form (a test checks that).
    */
   namespace Elasticity
   {
     /// K[a][b]: the 3x3 block coupling vertex a's force to vertex b's
-    /// displacement (Cotin's K_ab^T, seed eq. 8).
+    /// displacement (Cotin's K_ab^T, the paper's eq. 8).
     using CellMatrix = std::array<std::array<Tensor<2, 3>, 4>, 4>;
 
     /**
@@ -55,8 +55,8 @@ namespace softface
     Tensor<4, 3>
     linear_tangent(const Lame &lame);
 
-    /// The linear-elastic stiffness of a P1 tetrahedron (seed eq. 8), given
-    /// linear_tangent() of its material.
+    /// The linear-elastic stiffness of a P1 tetrahedron (the paper's eq. 8),
+    /// given linear_tangent() of its material.
     CellMatrix
     p1_stiffness(const Tetrahedron::Geometry &tetrahedron,
                  const Tensor<4, 3>          &linear_tangent);

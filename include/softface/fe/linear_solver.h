@@ -28,11 +28,11 @@ namespace softface
   using namespace dealii;
 
   /**
-   * The linear solves of the FEM models, written once: the seed's
-   * Jacobi-preconditioned GMRES, CG or GMRES with Trilinos ML smoothed
-   * aggregation given the six rigid-body modes of the layout (deal.II 9.4
-   * hands ML only the translations), and a sparse Cholesky factorisation
-   * (CHOLMOD) whose ordering is reused when the matrix changes.
+   * The linear solves of the FEM models, written once: the
+   * Jacobi-preconditioned GMRES of Mollemans et al. 2007, CG or GMRES with
+   * Trilinos ML smoothed aggregation given the six rigid-body modes of the
+   * layout (deal.II 9.4 hands ML only the translations), and a sparse Cholesky
+   * factorisation (CHOLMOD) whose ordering is reused when the matrix changes.
    *
    * For matrices that change (Newton tangents) ML is built once, on the
    * first matrix or the one given to build_amg(), and rebuilt when a solve

@@ -25,10 +25,10 @@ namespace softface
     enum class Law
     {
       /// Hooke's law in the small-strain measure eps = sym(F - I): the
-      /// linear FEM model's equations (seed eqs. 6-10). Never refuses a
-      /// deformation.
+      /// linear FEM model's equations (Mollemans et al. 2007, eqs. 6-10). Never
+      /// refuses a deformation.
       linear,
-      /// S = lambda tr(E) I + 2 mu E with E = (F^T F - I) / 2: the seed's
+      /// S = lambda tr(E) I + 2 mu E with E = (F^T F - I) / 2: the paper's
       /// large-deformation law and CalculiX's *ELASTIC with NLGEOM; softens
       /// under strong compression.
       st_venant_kirchhoff,

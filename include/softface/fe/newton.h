@@ -51,7 +51,7 @@ namespace softface
    * there.
    *
    * The corrector after the predictor is this class's loop (default) or
-   * SUNDIALS' KINSOL. Measured on issue 18's cases
+   * SUNDIALS' KINSOL. On the off-centre cases
    * (doc/results/nonlinear_solvers.md): KINSOL gives the same answers and
    * loads in about as many iterations and as much time, so the loop, which
    * reports why a step failed and works with contact constraints, stays

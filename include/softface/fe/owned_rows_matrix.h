@@ -15,7 +15,7 @@ namespace softface
 
   /**
    * A Trilinos matrix of the rows this MPI rank owns, filled by the cells at
-   * them (issue 20): the linear FEM model's stiffness and the nonlinear
+   * them: the linear FEM model's stiffness and the nonlinear
    * models' tangent on several ranks. Every cell at an owned DoF is given to
    * the rank, its own cells and ghost cells alike, so a rank adds to its own
    * rows only and no entry crosses the ranks; a cell at two ranks' DoFs is

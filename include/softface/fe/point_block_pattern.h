@@ -25,7 +25,7 @@ namespace softface
    * searching the row (a merge along the row mispredicts its branches on
    * an irregular mesh).
    *
-   * Issue 16 (cell order): the same work per cell on any mesh.
+   * The same work per cell on any mesh, whatever its cell order.
    */
   class PointBlockPattern
   {

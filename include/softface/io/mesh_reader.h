@@ -27,7 +27,7 @@ namespace softface
 
     /**
      * read_file() on every rank of @p communicator, each into its own
-     * triangulation (issue 20: every rank holds the scene). If a rank
+     * triangulation (every rank holds the scene). If a rank
      * cannot read it (a file another node does not see, a partial copy),
      * every rank throws the same Error, the first such rank's message,
      * naming the rank unless it is rank 0: none is left alone in the

@@ -17,11 +17,11 @@ namespace softface
   using namespace dealii;
 
   /**
-   * Volume/surface mapping (seed 3.4): the displacement computed on the
-   * coarse tetrahedral mesh carried to the dense skin surface made from the
-   * CT. Both of the seed's methods are an initialisation (step A) that
-   * fixes, for every skin point, weights of mesh vertices, and an update
-   * (step B, on every prediction) that sums the weighted vertex
+   * Volume/surface mapping (Mollemans et al. 2007, Sec. 3.4): the displacement
+   * computed on the coarse tetrahedral mesh carried to the dense skin surface
+   * made from the CT. Both of the paper's methods are an initialisation (step
+   * A) that fixes, for every skin point, weights of mesh vertices, and an
+   * update (step B, on every prediction) that sums the weighted vertex
    * displacements: a sparse matrix times a vector.
    */
   namespace SurfaceMapping
@@ -45,7 +45,7 @@ namespace softface
                          const std::set<types::boundary_id> &skin_boundary_ids);
     };
 
-    /// The two methods of the seed.
+    /// The two methods of the paper.
     enum class Method
     {
       shape_functions,
@@ -65,9 +65,9 @@ namespace softface
       /// the simulated region (the mesh covers the face only): they stay.
       double reach = 3.;
       /// Inverse distance weighting: known points within this radius (mm,
-      /// the seed's x) ...
+      /// the paper's x) ...
       double radius = 3.;
-      /// ... and fewer than this many connectivity rings away (the seed's y).
+      /// ... and fewer than this many connectivity rings away (the paper's y).
       unsigned int rings = 5;
     };
 
@@ -107,7 +107,7 @@ namespace softface
       std::vector<unsigned int> vertices;
       std::vector<double>       weights;
 
-      /// Wall seconds of step A's parts, in their order (what the seed's
+      /// Wall seconds of step A's parts, in their order (what the paper's
       /// Table 4 times as one figure): for shape functions the tetrahedra's
       /// R-tree, the containing tetrahedra, and the points outside the mesh
       /// projected onto its skin; for inverse distances the skin points'
@@ -120,8 +120,8 @@ namespace softface
      * Step A of the shape-function method: each skin point gets the
      * tetrahedron that contains it, or else the one whose skin face it
      * projects onto (the closest point of the mesh's skin), and the P1 shape
-     * functions of that tetrahedron at the point (seed eq. 13; outside the
-     * tetrahedron they extrapolate linearly).
+     * functions of that tetrahedron at the point (the paper's eq. 13; outside
+     * the tetrahedron they extrapolate linearly).
      */
     SkinMapping
     shape_function_mapping(const VolumeMesh &mesh,
@@ -132,9 +132,9 @@ namespace softface
      * Step A of inverse distance weighting: every vertex of the mesh's skin
      * is matched to its closest skin point (the "known" points); each skin
      * point then takes the known points within the radius and fewer than
-     * the rings away along the skin's edges, weighted by 1/distance (seed eq.
-     * 14); a known point is its own answer. A skin point matched by several
-     * mesh vertices takes their mean.
+     * the rings away along the skin's edges, weighted by 1/distance (the
+     * paper's eq. 14); a known point is its own answer. A skin point matched by
+     * several mesh vertices takes their mean.
      */
     SkinMapping
     inverse_distance_mapping(const VolumeMesh &mesh,

@@ -8,11 +8,12 @@
 namespace softface
 {
   /**
-   * The points a local solver visits in its next sweep: the seed's dynamic
-   * cut-out (2.2) and active set (2.3.3) revisit only points whose force
-   * can have changed. A point is queued at most once per sweep, and a sweep
-   * visits its points in ascending (memory) order, so that neighbours share
-   * cache lines once the model no longer fits in cache.
+   * The points a local solver visits in its next sweep: the dynamic
+   * cut-out (Mollemans et al. 2007, Sec. 2.2) and active set (Sec. 2.3.3)
+   * revisit only points whose force can have changed. A point is queued at most
+   * once per sweep, and a sweep visits its points in ascending (memory) order,
+   * so that neighbours share cache lines once the model no longer fits in
+   * cache.
    */
   class ActiveSet
   {

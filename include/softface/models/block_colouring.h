@@ -10,7 +10,7 @@ namespace softface
   /**
    * The points of a point mesh cut into blocks of consecutive indices, and
    * the blocks coloured so that no point of a block is a neighbour of a
-   * point in another block of the same colour (issue 16). A Gauss-Seidel
+   * point in another block of the same colour. A Gauss-Seidel
    * sweep then visits the colours in turn and the blocks of one colour on
    * any number of threads at once, each block in index order: an update
    * writes its own point and reads its neighbours, so no two concurrent

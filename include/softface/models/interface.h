@@ -272,8 +272,8 @@ namespace softface
       void
       add_detail(const std::string &name, const std::string &text);
       /**
-       * A point model's ranges of blocks on the ranks of its communicator
-       * (issue 20), timed as its "partition" phase, with its "MPI ranks"
+       * A point model's ranges of blocks on the ranks of its communicator,
+       * timed as its "partition" phase, with its "MPI ranks"
        * figure; none on one rank, or where the scene has vertex constraints
        * (a constrained step moves its partner, which another rank may own:
        * every rank then runs the model whole). Collective.

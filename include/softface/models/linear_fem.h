@@ -25,8 +25,8 @@ namespace softface
   namespace Models
   {
     /**
-     * Linear FEM (seed 2.1): linearised strain, Hooke's law, K u = 0 on the
-     * free DoFs with the join DoFs prescribed.
+     * Linear FEM (Mollemans et al. 2007, Sec. 2.1): linearised strain, Hooke's
+     * law, K u = 0 on the free DoFs with the join DoFs prescribed.
      *
      * setup() assembles K once and eliminates the join DoFs symmetrically
      * (rows and columns zeroed, diagonal kept), which does not depend on the
@@ -35,7 +35,7 @@ namespace softface
      * side -K_fj u_j for the planning and solves, so a re-plan on the same
      * scene reuses all of it.
      *
-     * On several MPI ranks (issue 20) the scene's cells are shared among the
+     * On several MPI ranks the scene's cells are shared among the
      * ranks (DistributedLayout) and the system is assembled and solved there
      * (DistributedElasticity::LinearSystem, 'cg amg' only); every rank gets
      * the whole answer.

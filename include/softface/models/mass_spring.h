@@ -19,9 +19,9 @@ namespace softface
   namespace Models
   {
     /**
-     * The tetrahedral Mass Spring Model of the seed (section 2.2): one
-     * linear spring per mesh edge with k = E sum(V of the tetrahedra sharing
-     * the edge) / L0^2 (eq. 5, Gelder 1998), nonlinear in the positions
+     * The tetrahedral Mass Spring Model of Mollemans et al. 2007 (Sec. 2.2):
+     * one linear spring per mesh edge with k = E sum(V of the tetrahedra
+     * sharing the edge) / L0^2 (eq. 5, Gelder 1998), nonlinear in the positions
      * (eq. 4).
      *
      * Static equilibrium by local steepest descent: a point moves along its
@@ -38,7 +38,7 @@ namespace softface
      * tetrahedra (a spring that flips over inverts the tetrahedra around it)
      * are counted and reported.
      *
-     * On several MPI ranks (issue 20) each rank moves the points of its
+     * On several MPI ranks each rank moves the points of its
      * range of blocks (PointExchange), the colours in turn with a ghost
      * exchange after each: the serial sweep, update for update, so the
      * answer and the sweeps are the serial ones. A ghost that moved wakes
@@ -114,7 +114,7 @@ namespace softface
       Vector<double>        last_prescribed;
 
       const Scene *scene = nullptr;
-      /// On several MPI ranks: the points this rank moves (issue 20).
+      /// On several MPI ranks: the points this rank moves.
       std::unique_ptr<PointExchange> exchange;
       std::unique_ptr<PointMesh>     mesh;
       /// The order of a sweep's updates (BlockColouring).

@@ -26,8 +26,8 @@ namespace softface
   namespace Models
   {
     /**
-     * The Mass Tensor Model of the seed (section 2.3, after Cotin et al.
-     * 2000). Every tetrahedron's linear-elastic stiffness (eqs. 6-8) is
+     * The Mass Tensor Model of Mollemans et al. 2007 (Sec. 2.3, after Cotin et
+     * al. 2000). Every tetrahedron's linear-elastic stiffness (eqs. 6-8) is
      * summed into one 3x3 tensor K_jj per point and one K_jk per edge
      * (eqs. 9-10): exactly the 3x3 blocks of the linear FEM stiffness. Points
      * are the mesh vertices in the order of the shared DoF layout (point p
@@ -44,11 +44,11 @@ namespace softface
      * have not stopped or whose neighbour moved by more than the threshold in
      * the previous sweep (the only points whose force can have changed).
      *
-     * The precision (seed Table 1, Fig. 1) is the distance to the converged
+     * The precision (paper, Table 1, Fig. 1) is the distance to the converged
      * answer of the same equations, which the model solves itself: its
      * tensors as one sparse matrix, factorised once per scene.
      *
-     * On several MPI ranks (issue 20) each rank sweeps the points of its
+     * On several MPI ranks each rank sweeps the points of its
      * range of blocks (PointExchange), the colours in turn with a ghost
      * exchange after each: the serial sweep, update for update. Every
      * decision of the stop criterion is taken on global figures, so the
@@ -87,15 +87,15 @@ namespace softface
                  const double       stop_gradient_threshold,
                  const unsigned int gradient_window,
                  const bool         active_set);
-      /// Relaxation factor of the updates (1: the seed's eq. 12; 0: 'auto',
+      /// Relaxation factor of the updates (1: the paper's eq. 12; 0: 'auto',
       /// 1.8 with Gauss-Seidel order and 1 with Jacobi).
       void
       set_relaxation(const double factor);
       /// The factor the updates use.
       double
       relaxation_factor() const;
-      /// Distance to the answer (mm) below which a stop that the seed's
-      /// criterion proposes is accepted; 0: the seed's criterion alone.
+      /// Distance to the answer (mm) below which a stop that the paper's
+      /// criterion proposes is accepted; 0: the paper's criterion alone.
       void
       set_stop_distance(const double distance);
       /// Also compute the converged answer and report the precision.
@@ -120,14 +120,14 @@ namespace softface
       Tensor<2, 3>
       tensor(const unsigned int j, const unsigned int k) const;
 
-      /// Seed Table 1 and the work done, for the last solve.
+      /// The paper's Table 1 and the work done, for the last solve.
       struct Report
       {
         unsigned int       sweeps        = 0;
         unsigned long long point_updates = 0;
         double             max_gradient  = 0.; ///< mm per sweep, at the end
         /// Largest and mean distance (mm) of a free point to the converged
-        /// answer (the seed's "minimal" and mean precision); -1 if not
+        /// answer (the paper's "minimal" and mean precision); -1 if not
         /// computed.
         double precision_max  = -1.;
         double precision_mean = -1.;
@@ -162,7 +162,7 @@ namespace softface
       std::string  precision_history_file;
 
       const Scene *scene = nullptr;
-      /// On several MPI ranks: the points this rank updates (issue 20).
+      /// On several MPI ranks: the points this rank updates.
       std::unique_ptr<PointExchange> exchange;
 
       // Block-CSR on the points' neighbours (mesh->row_start, ->neighbour):
@@ -194,8 +194,9 @@ namespace softface
       {
         return diagonal_inverse[j - first_row].data();
       }
-      /// Seed eqs. 9-10: the tensors of the rows of points [@p first, @p end)
-      /// (each tetrahedron at one of them adds to their rows).
+      /// The paper's eqs. 9-10: the tensors of the rows of points
+      /// [@p first, @p end) (each tetrahedron at one of them adds to their
+      /// rows).
       void
       make_tensors(const unsigned int  first,
                    const unsigned int  end,
@@ -209,7 +210,7 @@ namespace softface
       std::unique_ptr<BlockColouring> colouring;
 
       /// The local problem's minimiser at point @p j: K_jj^-1 (f_j - sum_k
-      /// K_jk u_k) (seed eq. 12).
+      /// K_jk u_k) (the paper's eq. 12).
       void
       local_optimum(const unsigned int  j,
                     const double *const u,

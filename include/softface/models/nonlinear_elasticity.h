@@ -22,9 +22,9 @@ namespace softface
   namespace Models
   {
     /**
-     * What the large-deformation models share (seed 2.1, the full
-     * Green-Lagrange strain): the material law (fe/material_law.h), the
-     * load-stepped Newton iteration (fe/newton.h), the linear solves
+     * What the large-deformation models share (Mollemans et al. 2007, Sec. 2.1,
+     * the full Green-Lagrange strain): the material law (fe/material_law.h),
+     * the load-stepped Newton iteration (fe/newton.h), the linear solves
      * (fe/linear_solver.h, ML built on the stiffness at rest), and their
      * parameters. A derived model provides the discretisation: its layout,
      * which DoFs are join DoFs and how they follow the planning, and the

@@ -13,9 +13,9 @@ namespace softface
   namespace Models
   {
     /**
-     * Nonlinear FEM (seed 2.1, large deformation) on P1 tetrahedra on the
-     * shared DoF layout: St. Venant-Kirchhoff or compressible Neo-Hooke (or
-     * the linear law) with the closed-form forces and tangent of
+     * Nonlinear FEM (Mollemans et al. 2007, Sec. 2.1, large deformation) on P1
+     * tetrahedra on the shared DoF layout: St. Venant-Kirchhoff or compressible
+     * Neo-Hooke (or the linear law) with the closed-form forces and tangent of
      * fe/elasticity.h, solved by the load-stepped Newton iteration of
      * NonlinearElasticity. Each tetrahedron's shape gradients, volume and
      * the positions of its 144 tangent entries in the matrix are computed

@@ -16,7 +16,7 @@ namespace softface
 
   /**
    * The points of a point-mesh model (mass tensor, mass spring) on several
-   * MPI ranks (issue 20). A rank updates the points of a range of the
+   * MPI ranks. A rank updates the points of a range of the
    * model's blocks (BlockColouring): consecutive blocks, so a compact piece
    * of the mesh in locality order, balanced by their free points or by
    * another measure of their work (the mass spring model shares its blocks

@@ -87,12 +87,12 @@ namespace softface
    * says stop. What the two models share is here once: the order of the
    * updates and what may run at once (BlockColouring: the blocks of a
    * colour on the threads, the colours in turn), the points a sweep visits
-   * (ActiveSet: the seed's dynamic cut-out, 2.2, and active set, 2.3.3),
-   * the exchange of the colours' values between MPI ranks (PointExchange)
-   * with every decision to go on or stop taken on global figures, the
-   * sweep count and its limit, the progress lines and the ranks' figures
-   * for the report. A model brings its local update and its decision after
-   * each sweep, as a class with these members (called as a template, so
+   * (ActiveSet: the dynamic cut-out and active set of Mollemans et al. 2007,
+   * Sec. 2.2 and 2.3.3), the exchange of the colours' values between MPI ranks
+   * (PointExchange) with every decision to go on or stop taken on global
+   * figures, the sweep count and its limit, the progress lines and the ranks'
+   * figures for the report. A model brings its local update and its decision
+   * after each sweep, as a class with these members (called as a template, so
    * that the local update inlines into the sweep's loop; PointLocalUpdates
    * gives finish_sweep() and threshold()):
    *

@@ -8,9 +8,9 @@ namespace softface
 {
   /**
    * The check of a stop that a local stop criterion proposes (the mass
-   * tensor model's 'Stop distance'): the seed's criterion (2.3.3) can stop
-   * far from the answer where the sweeps converge slowly, each sweep
-   * changing little long before the answer is near.
+   * tensor model's 'Stop distance'): the criterion of Mollemans et al. 2007,
+   * Sec. 2.3.3, can stop far from the answer where the sweeps converge slowly,
+   * each sweep changing little long before the answer is near.
    *
    * The largest change of every sweep since the sweeps last (re)started
    * gives the rate rho at which the changes shrink, measured over the second

@@ -19,8 +19,8 @@ namespace softface
 
   /**
    * Subsection "Skin": the dense skin surface that every model's prediction
-   * is mapped onto (seed 3.4), and the post-operative skin it is measured
-   * against (seed 3.5).
+   * is mapped onto (Mollemans et al. 2007, Sec. 3.4), and the post-operative
+   * skin it is measured against (paper, Sec. 3.5).
    */
   struct SkinParameters
   {
@@ -123,7 +123,7 @@ namespace softface
       double                 max_displacement = 0.;
       bool                   measured         = false;
       Validation::Statistics distances;
-      /// Distances between TPS-RPM correspondences (seed 3.5.1).
+      /// Distances between TPS-RPM correspondences (paper, Sec. 3.5.1).
       bool                   corresponded = false;
       Validation::Statistics correspondence;
       unsigned int           correspondence_points  = 0;

@@ -23,7 +23,7 @@ namespace softface
      * of every softface process to load and relocate (`softface --help`,
      * median of 5: 0.52 s and 192 MB with them linked, 0.38 s and 160 MB
      * without; both with Open MPI's local transport, process.h), also for
-     * scenes that never touch a patient (issue 16). So the core does not
+     * scenes that never touch a patient. So the core does not
      * link libsoftface_patient.so: backend() loads it on first use. The
      * parameters of the patient subsections need none of those libraries
      * and live in the core (source/patient/front/).

@@ -60,13 +60,14 @@ namespace softface
     };
 
     /**
-     * Iterative closest points (Besl and McKay; the seed's 3.2 refines a
-     * manual start with it): the rigid motion that carries @p moving onto
-     * the cloud @p fixed, from @p initial. Each iteration pairs every moved
-     * point with its closest fixed point (a nanoflann k-d tree built once),
-     * drops pairs farther than the rejection distance, and solves the best
-     * rigid fit of the pairs in closed form (SVD of the cross-covariance,
-     * Eigen). Throws an Error if fewer than three pairs remain.
+     * Iterative closest points (Besl and McKay; Mollemans et al. 2007,
+     * Sec. 3.2, refines a manual start with it): the rigid motion that carries
+     * @p moving onto the cloud @p fixed, from @p initial. Each iteration pairs
+     * every moved point with its closest fixed point (a nanoflann k-d tree
+     * built once), drops pairs farther than the rejection distance, and solves
+     * the best rigid fit of the pairs in closed form (SVD of the
+     * cross-covariance, Eigen). Throws an Error if fewer than three pairs
+     * remain.
      */
     IcpResult
     icp(const std::vector<Vec3> &moving,

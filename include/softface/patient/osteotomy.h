@@ -13,10 +13,11 @@ namespace softface
   namespace Patient
   {
     /**
-     * A cut surface of an osteotomy (seed 3.2), named as in the clinic (Le
-     * Fort I, bilateral sagittal split left and right, genioplasty): a plane
-     * (a point and its normal) or a polyline swept along a direction, each
-     * bounded by a box so that it cuts only the bone it is meant for.
+     * A cut surface of an osteotomy (Mollemans et al. 2007, Sec. 3.2), named as
+     * in the clinic (Le Fort I, bilateral sagittal split left and right,
+     * genioplasty): a plane (a point and its normal) or a polyline swept along
+     * a direction, each bounded by a box so that it cuts only the bone it is
+     * meant for.
      */
     struct Cut
     {
@@ -104,7 +105,7 @@ namespace softface
     };
 
     /**
-     * The bone parts (seed 3.2-3.3): the bone of @p labels (value
+     * The bone parts (paper, Sec. 3.2-3.3): the bone of @p labels (value
      * @p bone_label) minus the saw kerfs of the cuts, split into connected
      * pieces; the piece that holds a segment's seed point (or the nearest
      * bone within 5 mm of it) is that segment's. Returns a volume with s + 1
@@ -113,8 +114,8 @@ namespace softface
      * Bone within a cut's detached margin (at least one voxel beyond the
      * kerf) then gets detached_flag added: the soft tissue touching it is
      * free. At most 127 segments.
-     * Throws an Error when a seed is not in bone, when two segments fall in
-     * one piece (a cut does not separate them), or when a piece larger than
+     * Throws an Error when a seed point is not in bone, when two segments fall
+     * in one piece (a cut does not separate them), or when a piece larger than
      * the minimum volume belongs to no segment.
      */
     LabelVolume

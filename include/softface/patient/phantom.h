@@ -50,15 +50,15 @@ namespace softface
     };
 
     /**
-     * A synthetic head and neck (seed 3.1's patient, made up): cranium with
-     * the brain inside, orbits, maxilla with the upper teeth, mandible
-     * (body, rami, condyles) with the lower teeth, chin; soft tissue of
-     * skin, fat and muscle over it (masseters over the rami), nose, cheeks,
-     * upper and lower lips, neck; air around. Every structure is an implicit
-     * surface (negative inside), so the anatomy is smooth and closed at any
-     * voxel size. The temporomandibular joints leave gaps of a few mm; the
-     * teeth and the lips part by 3 mm (the mouth slit) or, with a closed
-     * mouth, meet on the occlusal plane.
+     * A synthetic head and neck (a patient like that of Mollemans et al. 2007,
+     * Sec. 3.1, made up): cranium with the brain inside, orbits, maxilla with
+     * the upper teeth, mandible (body, rami, condyles) with the lower teeth,
+     * chin; soft tissue of skin, fat and muscle over it (masseters over the
+     * rami), nose, cheeks, upper and lower lips, neck; air around. Every
+     * structure is an implicit surface (negative inside), so the anatomy is
+     * smooth and closed at any voxel size. The temporomandibular joints leave
+     * gaps of a few mm; the teeth and the lips part by 3 mm (the mouth slit)
+     * or, with a closed mouth, meet on the occlusal plane.
      */
     class Phantom
     {

@@ -30,9 +30,9 @@ namespace softface
                 const std::vector<RigidTransform>  &motions);
 
     /**
-     * Planning from a post-operative skull (seed 3.2): each part's surface
-     * registered to @p post_operative by ICP from @p start (a rough plan;
-     * the identity where there is none).
+     * Planning from a post-operative skull (Mollemans et al. 2007, Sec. 3.2):
+     * each part's surface registered to @p post_operative by ICP from @p start
+     * (a rough plan; the identity where there is none).
      */
     std::vector<IcpResult>
     recover_motions(const std::vector<TriangleSurface> &parts,

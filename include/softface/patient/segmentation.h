@@ -64,11 +64,12 @@ namespace softface
                         const SegmentationResult     &result);
 
     /**
-     * seed 3.1: the body (above the body threshold, holes filled, largest
-     * piece), bone (above the bone threshold, small pieces dropped), and
-     * the external soft tissue split into skin (within the skin thickness of
-     * the body surface), fat (below the fat threshold) and muscle. Throws an
-     * Error naming @p source and the threshold when one selects nothing.
+     * Mollemans et al. 2007, Sec. 3.1: the body (above the body threshold,
+     * holes filled, largest piece), bone (above the bone threshold, small
+     * pieces dropped), and the external soft tissue split into skin (within the
+     * skin thickness of the body surface), fat (below the fat threshold) and
+     * muscle. Throws an Error naming @p source and the threshold when one
+     * selects nothing.
      *
      * An 'auto' threshold is chosen on the smoothed CT, each from the
      * voxels the threshold splits: the body's from every voxel, the bone's

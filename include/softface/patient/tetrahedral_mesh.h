@@ -13,9 +13,10 @@ namespace softface
   namespace Patient
   {
     /**
-     * The zone of the face that deforms (seed 3.1): an axis-aligned box in
-     * the patient frame, cut further by half-spaces (a point and the
-     * outward normal of the plane; the side the normal points to is out).
+     * The zone of the face that deforms (Mollemans et al. 2007, Sec. 3.1): an
+     * axis-aligned box in the patient frame, cut further by half-spaces (a
+     * point and the outward normal of the plane; the side the normal points to
+     * is out).
      */
     struct RegionOfInterest
     {
@@ -92,7 +93,7 @@ namespace softface
     };
 
     /**
-     * The tetrahedral soft-tissue mesh (Amira in the seed; here CGAL Mesh_3
+     * The tetrahedral soft-tissue mesh (Amira in the paper; here CGAL Mesh_3
      * from the labelled image, then perturbation and exudation of slivers):
      * every voxel of @p labels whose label is one of @p tissue_labels and
      * that lies in @p roi, with the tissue label as material id (the

@@ -14,8 +14,9 @@ namespace softface
   using namespace dealii;
 
   /**
-   * How far a predicted skin is from the post-operative one (seed 3.5.1):
-   * distances and their statistics over the points that no mask removes.
+   * How far a predicted skin is from the post-operative one (Mollemans et al.
+   * 2007, Sec. 3.5.1): distances and their statistics over the points that no
+   * mask removes.
    */
   namespace Validation
   {
@@ -23,7 +24,7 @@ namespace softface
      * The signed distance of every point of @p points to the surface @p to:
      * the distance to its closest point there, negative where the point
      * lies behind @p to (against its outward normal, interpolated from the
-     * point normals at the closest point), as in the seed's Fig. 10.
+     * point normals at the closest point), as in the paper's Fig. 10.
      */
     std::vector<double>
     signed_distances(const std::vector<Point<3>>   &points,
@@ -45,7 +46,7 @@ namespace softface
       const std::vector<Tensor<1, 3>>      normals;
     };
 
-    /// Regions left out of the statistics (the seed left out the eyes, the
+    /// Regions left out of the statistics (the paper left out the eyes, the
     /// neck): axis-aligned boxes.
     struct Mask
     {
@@ -60,7 +61,7 @@ namespace softface
       masked(const Point<3> &p) const;
     };
 
-    /// What the seed reports of a distance map (mm).
+    /// What the paper reports of a distance map (mm).
     struct Statistics
     {
       unsigned int n             = 0;

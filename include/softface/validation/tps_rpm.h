@@ -10,7 +10,8 @@
 namespace softface
 {
   /**
-   * How far a predicted skin is from the post-operative one (seed 3.5.1).
+   * How far a predicted skin is from the post-operative one (Mollemans et al.
+   * 2007, Sec. 3.5.1).
    */
   namespace Validation
   {

@@ -112,13 +112,13 @@ namespace softface
       declare_region_of_interest(ParameterHandler &prm)
       {
         prm.enter_subsection("Region of interest");
-        prm.declare_entry(
-          "Box",
-          "-1e9, -1e9, -1e9; 1e9, 1e9, 1e9",
-          Patterns::Anything(),
-          "The zone of the face that deforms (seed 3.1): 'xmin, "
-          "ymin, zmin; xmax, ymax, zmax' in the patient frame "
-          "(mm).");
+        prm.declare_entry("Box",
+                          "-1e9, -1e9, -1e9; 1e9, 1e9, 1e9",
+                          Patterns::Anything(),
+                          "The zone of the face that deforms (Mollemans et al. "
+                          "2007, Sec. 3.1): 'xmin, "
+                          "ymin, zmin; xmax, ymax, zmax' in the patient frame "
+                          "(mm).");
         prm.declare_entry(
           "Planes",
           "",

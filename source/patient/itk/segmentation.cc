@@ -1,6 +1,6 @@
-// Segmentation of a head CT (patient, seed 3.1) with ITK: smoothing,
-// thresholds, hole filling, connected components and a distance map split
-// the volume into skin, fat, muscle, bone and internal soft tissue.
+// Segmentation of a head CT (patient; Mollemans et al. 2007, Sec. 3.1) with
+// ITK: smoothing, thresholds, hole filling, connected components and a distance
+// map split the volume into skin, fat, muscle, bone and internal soft tissue.
 
 #include <softface/core/error.h>
 #include <softface/patient/segmentation.h>
