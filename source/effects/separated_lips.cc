@@ -445,10 +445,11 @@ namespace softface
       return line.str();
     }
 
-    SOFTFACE_REGISTER_EFFECT(SeparatedLips,
-                             "separated lips",
-                             "The mouth slit cut into the mesh; its two sides "
-                             "may open and slide but never pass through each "
-                             "other (self-contact), in every model.")
+    SOFTFACE_REGISTER_EFFECT(
+      SeparatedLips,
+      "separated lips",
+      "The mouth slit cut into the mesh; its two sides "
+      "may open and slide but never pass through each "
+      "other (self-contact), in every model but reference fem.")
   } // namespace Effects
 } // namespace softface

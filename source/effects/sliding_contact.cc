@@ -213,6 +213,6 @@ namespace softface
                              "sliding contact",
                              "Tissue on a bone surface slides along it without "
                              "friction (bilateral, or unilateral: may lift "
-                             "off), in every model.")
+                             "off), in every model but reference fem.")
   } // namespace Effects
 } // namespace softface
