@@ -2,7 +2,7 @@
 # What accuracy costs in time: every model's error against a
 # converged quadratic reference and its setup and solve time, for the cube
 # benchmark with a 6 mm lift, a 16.7 mm lift and a 30 degree rotation, plus
-# the seed's MTM precision study. Shows "case i of N, elapsed, estimate".
+# the paper's MTM precision study. Shows "case i of N, elapsed, estimate".
 #
 #   benchmarks/run_all.sh           full run (2.4 to 5 hours of one core in
 #                                   2026-11, most of it the references), writes

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Linear FEM (cg amg), mass tensor and mass spring side by side in one softface
-# run per mesh, on the seed's 6 mm cube at about 30k, 100k, 200k and 500k
+# run per mesh, on the paper's 6 mm cube at about 30k, 100k, 200k and 500k
 # tetrahedra. Writes doc/results/cube_models.{md,csv,png}.
 #
 #   benchmarks/cube_models/run.sh [--quick]     (--quick: 30k and 100k only)

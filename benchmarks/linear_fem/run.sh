@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Linear FEM on the seed's cube at about 30k, 100k, 200k and 500k tetrahedra
+# Linear FEM on the paper's cube at about 30k, 100k, 200k and 500k tetrahedra
 # with each linear solver, one softface process per case (so that the peak
 # memory is the case's own). Writes doc/results/linear_fem.{md,csv,png}.
 #

@@ -1,4 +1,4 @@
-"""The seed's Fig. 6 on a phantom: a few predicted points of the lips and
+"""The paper's Fig. 6 on a phantom: a few predicted points of the lips and
 their three partners on the post-operative skin, the closest point, the
 corresponding point of the TPS-RPM variant and the true partner (the same
 skin point, moved by the truth).

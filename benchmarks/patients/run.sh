@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# The ten phantom patients after the seed's Table 2 (Mollemans et al. 2007):
+# The ten phantom patients after the paper's Table 2 (Mollemans et al. 2007):
 # builds each patient from its scene prm/patients/P<n>.prm (phantom CT ->
 # segmentation -> surfaces -> bone parts -> tetrahedral mesh -> the four
 # models), measures each predicted skin against the patient's post-operative
 # truth (closest points, TPS-RPM correspondences and exact correspondences),
-# runs the mass tensor model's precision study on the patient (seed Table 1,
-# both relaxation factors) and writes doc/results/patients.md: the seed's
-# Tables 1-4 and Figs. 1, 6, 9-11 side by side with ours, the seed's
+# runs the mass tensor model's precision study on the patient (the paper's Table 1,
+# both relaxation factors) and writes doc/results/patients.md: the paper's
+# Tables 1-4 and Figs. 1, 6, 9-11 side by side with ours, the paper's
 # conclusions judged against the truth's and the metric's own error, and
 # its timing claims taken apart (+ CSVs and PNGs, one picture per patient).
 # What accuracy costs in time over mesh sizes and stop thresholds, on the
@@ -94,11 +94,11 @@ if [ $report_only -eq 0 ]; then
     echo "$code $(( (end - start) / 1000000 ))" > "$out/exit_code"  # exit code, wall ms
     grep -E "^ *(model|linear fem|mass tensor|mass spring|nonlinear fem) +[0-9m]" "$out/log.txt" || true
     grep "Maximum resident" "$out/stderr.txt" || true
-    # The seed's precision study (2.3.5, Table 1, Fig. 1) on the patient: the
+    # The paper's precision study (2.3.5, Table 1, Fig. 1) on the patient: the
     # mass tensor model alone on the patient's mesh (its stage files reused),
     # every free point in every sweep until all gradients fall below 1e-5 mm
     # per sweep, the distance to the converged answer written after each
-    # sweep; with the seed's plain update (factor 1) and the default
+    # sweep; with the paper's plain update (factor 1) and the default
     # over-relaxation (auto).
     for factor in 1 auto; do
       run="$out/precision_$factor"

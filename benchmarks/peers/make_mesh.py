@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The seed's cube benchmark (Fig. 2) meshed by gmsh: the box [0,80]^3 mm with the inner box
+"""The paper's cube benchmark (Fig. 2) meshed by gmsh: the box [0,80]^3 mm with the inner box
 [35,45]^3 mm meshed conformingly, P1 tetrahedra of size H.
 
 Physical groups: volume 1 "tissue", volume 2 "bone" (the inner box), surface 1 "fixed" (the six

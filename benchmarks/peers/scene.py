@@ -1,4 +1,4 @@
-"""The softface scene both peer scripts run: the seed's cube benchmark (outer faces held, the inner
+"""The softface scene both peer scripts run: the paper's cube benchmark (outer faces held, the inner
 box lifted 6 mm, E = 3000, nu = 0.46) on a gmsh mesh or on softface's generated cube."""
 
 

@@ -8,7 +8,7 @@ NUMBER = r"[-+]?[\d.]+(?:e[-+]?\d+)?"
 
 
 def cube_scene(n, models, out, nodal):
-    """A parameter file: the generated cube of about N tetrahedra (the seed's benchmark, 6 mm
+    """A parameter file: the generated cube of about N tetrahedra (the paper's benchmark, 6 mm
     lift), MODELS on one thread per rank, outputs in OUT (nodal displacements if NODAL)."""
     return f"""subsection Scene
   set Mesh source = cube
