@@ -220,7 +220,7 @@ function showChoice() {
   state.lastMax = largest;
   const scale = Math.max(largest, 1e-9);
   const moved = show === "predicted";
-  // Signed distances on a fixed -3..3 mm scale (the seed's Fig. 10).
+  // Signed distances on a fixed -3..3 mm scale (the paper's Fig. 10).
   const byDistance = moved && distance !== null && restDistance !== null;
   const distanceColour = (d) => colourMap((d + 3) / 6);
   // Points that never move: no motion, or their distance at rest; grey in
