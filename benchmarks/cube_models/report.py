@@ -64,7 +64,7 @@ def main():
     md.append("")
     md.append(summary.measured_at(cpu_name()) + " One core per process.")
     md.append("")
-    md.append("The paper's benchmark (section 2.3.6, Fig. 2): 80 mm cube, border fixed, central "
+    md.append("The paper's benchmark (section 2.3.6, Fig. 2; the paper gives no sizes, these are softface's): 80 mm cube, border fixed, central "
               "10 mm cube moved 6 mm up, Poisson's ratio 0.46. All four models run in one "
               "softface process per mesh, on the same mesh, join points and DoF layout. Linear "
               "FEM: CG + AMG (ML, unsmoothed aggregates) to a relative residual of 1e-10. Mass "
