@@ -60,7 +60,7 @@ def anchor(heading):
 
 def anchors_of(page):
     found, in_code = set(), False
-    with open(page, encoding="utf-8") as f:
+    with open(page, encoding="utf-8", errors="replace") as f:
         for line in f:
             if line.startswith("```"):
                 in_code = not in_code
@@ -72,7 +72,7 @@ def anchors_of(page):
 def check_links(failures, shown):
     for page in pages():
         in_code = False
-        with open(page, encoding="utf-8") as f:
+        with open(page, encoding="utf-8", errors="replace") as f:
             for number, line in enumerate(f, 1):
                 if line.startswith("```"):
                     in_code = not in_code
@@ -106,7 +106,8 @@ def check_pictures(failures, shown):
 
 
 def check_quick_start(failures):
-    with open(os.path.join(ROOT, "README.md"), encoding="utf-8") as f:
+    with open(os.path.join(ROOT, "README.md"), encoding="utf-8",
+              errors="replace") as f:
         lines = f.read().split("\n")
     if len(lines) - 1 > README_MAX_LINES:
         failures.append("README.md: %d lines, more than %d" %
@@ -122,7 +123,8 @@ def check_quick_start(failures):
             break
         if line.startswith("    ./") or line.startswith("./"):
             commands.append(line.split("#")[0].strip())
-    with open(os.path.join(ROOT, ".ci", "run"), encoding="utf-8") as f:
+    with open(os.path.join(ROOT, ".ci", "run"), encoding="utf-8",
+              errors="replace") as f:
         ci = [l.split()[-1] for l in f if l.startswith("exec ")]
     if commands[:1] != ["./run.sh"] or len(commands) != 2:
         failures.append("README.md: the quick start is not './run.sh' and "
@@ -149,6 +151,8 @@ def check_history(failures):
         with open(file, encoding="utf-8", errors="replace") as f:
             for number, line in enumerate(f, 1):
                 where = "%s:%d" % (relative(file), number)
+                if "\ufffd" in line and file.endswith(".md"):
+                    failures.append("%s: not UTF-8" % where)
                 if ISSUE.search(line):
                     failures.append("%s: names an issue: %s" %
                                     (where, line.strip()[:100]))
